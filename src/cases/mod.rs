@@ -1,0 +1,185 @@
+//! Case files (`cases/*.toml`): parsing, validation and the [`Case`] trait that turns a case into a
+//! [`Problem`] for a given space.
+//!
+//! A case file names its kind in `case = "…"`, states its units in `units = "…"`, and has a `[run]`
+//! table with the default space, scheme and time step; the rest depends on the kind
+//! (see `cases/bar1d.toml`, `cases/spring_mass.toml`).
+
+pub mod bar1d;
+pub mod spring_mass;
+
+use crate::error::{positive, Error, Result};
+use crate::exact::ExactContact;
+use crate::problem::Problem;
+use crate::space::Space;
+use crate::time::SchemeParams;
+use serde::Deserialize;
+use std::path::Path;
+
+/// Error evaluator of a full displacement field against the exact one.
+pub trait FieldError {
+    /// `(‖u_h − u‖_{L²(Ω)}, |u_h − u|_{H¹(Ω)})` at time t.
+    fn errors(&self, u: &[f64], t: f64) -> (f64, f64);
+}
+
+/// A canonical case, ready to build problems.
+pub trait Case: Send + Sync {
+    /// Kind of the case (`bar1d`, `spring_mass`).
+    fn kind(&self) -> &'static str;
+    /// Mesh size h (NaN for a 0D case).
+    fn h(&self) -> f64;
+    /// The semi-discrete problem with the given space.
+    fn problem(&self, space: &dyn Space) -> Result<Problem>;
+    /// Exact solution at the contact point, if known.
+    fn exact(&self) -> Option<&dyn ExactContact>;
+    /// Exact-field error evaluator (for a problem built by this case), if known.
+    fn field_error(&self) -> Option<Box<dyn FieldError + '_>>;
+    /// True when the exact contact stress is a function of time (not a sum of impulses), so that
+    /// its L²(0, T) error is meaningful.
+    fn stress_is_function(&self) -> bool;
+    /// The run settings (defaults from the file, possibly overridden).
+    fn run(&self) -> &RunSpec;
+}
+
+/// The `[run]` table: default discretisation choices.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    /// Space discretisation name.
+    pub space: String,
+    /// Time scheme name.
+    pub scheme: String,
+    /// Newmark β.
+    #[serde(default = "default_beta")]
+    pub beta: f64,
+    /// Newmark γ.
+    #[serde(default = "default_gamma")]
+    pub gamma: f64,
+    /// Time step.
+    pub dt: f64,
+    /// Final time.
+    pub t_end: f64,
+    /// Contact solver name.
+    #[serde(default = "default_solver")]
+    pub contact_solver: String,
+}
+
+fn default_beta() -> f64 {
+    0.25
+}
+fn default_gamma() -> f64 {
+    0.5
+}
+fn default_solver() -> String {
+    "active_set".into()
+}
+
+impl RunSpec {
+    /// Checks dt, t_end and the names.
+    pub fn validate(&self) -> Result<()> {
+        positive("run.dt", self.dt)?;
+        positive("run.t_end", self.t_end)?;
+        if self.dt > self.t_end {
+            return Err(Error::invalid("run.dt", self.dt, "must not exceed run.t_end"));
+        }
+        crate::space::by_name(&self.space)?;
+        crate::time::by_name(&self.scheme, self.scheme_params())?;
+        crate::contact::by_name(&self.contact_solver, 0)?;
+        Ok(())
+    }
+
+    /// Scheme parameters of this run.
+    pub fn scheme_params(&self) -> SchemeParams {
+        SchemeParams {
+            beta: self.beta,
+            gamma: self.gamma,
+        }
+    }
+
+    /// Number of steps `round(t_end / dt)` (≥ 1).
+    pub fn steps(&self) -> usize {
+        ((self.t_end / self.dt).round() as usize).max(1)
+    }
+}
+
+/// Overrides of a case file from the command line.
+#[derive(Debug, Clone, Default)]
+pub struct Overrides {
+    /// `--space`.
+    pub space: Option<String>,
+    /// `--scheme`.
+    pub scheme: Option<String>,
+    /// `--beta`.
+    pub beta: Option<f64>,
+    /// `--gamma`.
+    pub gamma: Option<f64>,
+    /// `--degree`.
+    pub degree: Option<usize>,
+    /// `--elements`.
+    pub elements: Option<usize>,
+    /// `--dt`.
+    pub dt: Option<f64>,
+    /// `--t-end`.
+    pub t_end: Option<f64>,
+}
+
+impl Overrides {
+    /// Applies the run-level overrides to `run`.
+    pub fn apply(&self, run: &mut RunSpec) {
+        if let Some(s) = &self.space {
+            run.space = s.clone();
+        }
+        if let Some(s) = &self.scheme {
+            run.scheme = s.clone();
+        }
+        run.beta = self.beta.unwrap_or(run.beta);
+        run.gamma = self.gamma.unwrap_or(run.gamma);
+        run.dt = self.dt.unwrap_or(run.dt);
+        run.t_end = self.t_end.unwrap_or(run.t_end);
+    }
+}
+
+/// Case kinds known to [`load`].
+pub const CASES: &[&str] = &["bar1d", "spring_mass"];
+
+#[derive(Deserialize)]
+struct Header {
+    case: String,
+}
+
+/// Reads, parses and validates a case file, applying `overrides`.
+pub fn load(path: &Path, overrides: &Overrides) -> Result<Box<dyn Case>> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    parse(&text, path, overrides)
+}
+
+/// Parses case-file text (`path` is only used in messages).
+pub fn parse(text: &str, path: &Path, overrides: &Overrides) -> Result<Box<dyn Case>> {
+    let syntax = |e: toml::de::Error| Error::CaseSyntax {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    };
+    let header: Header = toml::from_str::<toml::Table>(text)
+        .map_err(syntax)
+        .and_then(|t| {
+            t.try_into().map_err(|e: toml::de::Error| Error::CaseSyntax {
+                path: path.to_path_buf(),
+                message: format!("missing or invalid `case` field: {e}"),
+            })
+        })?;
+    match header.case.as_str() {
+        "bar1d" => Ok(Box::new(bar1d::Bar1d::from_spec(
+            toml::from_str(text).map_err(syntax)?,
+            overrides,
+        )?)),
+        "spring_mass" => Ok(Box::new(spring_mass::SpringMassCase::from_spec(
+            toml::from_str(text).map_err(syntax)?,
+            overrides,
+        )?)),
+        other => Err(Error::UnknownName {
+            kind: "case",
+            name: other.to_string(),
+            known: CASES.join(", "),
+        }),
+    }
+}

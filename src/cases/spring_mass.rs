@@ -1,0 +1,179 @@
+//! `spring_mass`: one mass on a spring above a rigid obstacle (`shared/reference/spring_mass.md`).
+//! `m ü + k u = f + k u_r − B_Nᵀ λ` with `B_N = −1` (outward normal points down), `g = u`.
+
+use super::{Case, FieldError, Overrides, RunSpec};
+use crate::error::{Error, Result};
+use crate::exact::spring_mass::{SpringMass, SpringMassParams};
+use crate::exact::ExactContact;
+use crate::linalg::TripletBuilder;
+use crate::problem::{Contact, Probe, Problem};
+use crate::space::{ElementMass, MassModel, Space};
+use nalgebra::DMatrix;
+use serde::Deserialize;
+
+/// `[system]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct System {
+    /// m > 0.
+    pub mass: f64,
+    /// k ≥ 0.
+    pub stiffness: f64,
+    /// u_r.
+    #[serde(default)]
+    pub rest_position: f64,
+    /// f (e.g. −m g).
+    #[serde(default)]
+    pub force: f64,
+    /// u₀ ≥ 0.
+    pub u0: f64,
+    /// v₀.
+    #[serde(default)]
+    pub v0: f64,
+    /// Restitution e of the exact reference trajectory.
+    #[serde(default = "one")]
+    pub restitution: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// The whole `spring_mass` case file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringMassSpec {
+    /// Always `spring_mass`.
+    pub case: String,
+    /// Units statement.
+    pub units: String,
+    /// Physical parameters.
+    pub system: System,
+    /// Run defaults.
+    pub run: RunSpec,
+}
+
+/// A validated spring–mass case.
+#[derive(Debug, Clone)]
+pub struct SpringMassCase {
+    /// Exact trajectory on [0, t_end].
+    pub exact: SpringMass,
+    run: RunSpec,
+}
+
+impl SpringMassCase {
+    /// Validates the spec and precomputes the exact trajectory.
+    pub fn from_spec(spec: SpringMassSpec, o: &Overrides) -> Result<Self> {
+        let s = spec.system;
+        let mut run = spec.run;
+        o.apply(&mut run);
+        run.validate()?;
+        let p = SpringMassParams {
+            mass: s.mass,
+            stiffness: s.stiffness,
+            rest_position: s.rest_position,
+            force: s.force,
+            u0: s.u0,
+            v0: s.v0,
+            restitution: s.restitution,
+        };
+        let exact = SpringMass::new(p, run.t_end).map_err(|e| match e {
+            Error::InvalidField {
+                field,
+                value,
+                requirement,
+            } => Error::InvalidField {
+                field: format!("system.{field}"),
+                value,
+                requirement,
+            },
+            e => e,
+        })?;
+        Ok(Self { exact, run })
+    }
+}
+
+impl Case for SpringMassCase {
+    fn kind(&self) -> &'static str {
+        "spring_mass"
+    }
+
+    fn h(&self) -> f64 {
+        f64::NAN
+    }
+
+    fn problem(&self, space: &dyn Space) -> Result<Problem> {
+        if !matches!(space.name(), "standard" | "lumped") {
+            return Err(Error::Unsupported(format!(
+                "spring_mass has a single dof, which is the contact dof: space `{}` would remove \
+                 its inertia (use standard or lumped)",
+                space.name()
+            )));
+        }
+        let p = &self.exact.p;
+        let model = MassModel {
+            n_dofs: 1,
+            dim: 1,
+            elements: vec![ElementMass {
+                x: vec![[0.0; 3]],
+                mass: DMatrix::from_element(1, 1, p.mass),
+                dofs: vec![vec![Some(0)]],
+            }],
+            contact_dofs: vec![0],
+            velocity: None,
+        };
+        let mut k = TripletBuilder::new(1, 1);
+        k.add(0, 0, p.stiffness);
+        let mut b_n = TripletBuilder::new(1, 1);
+        b_n.add(0, 0, -1.0);
+        let shift = if p.stiffness > 0.0 {
+            let ue = p.rest_position + p.force / p.stiffness;
+            0.5 * p.stiffness * ue * ue
+        } else {
+            0.0
+        };
+        Ok(Problem {
+            inertia: space.inertia(&model)?,
+            k: k.build()?,
+            f: vec![p.force + p.stiffness * p.rest_position],
+            contact: Contact {
+                b_n: b_n.build()?,
+                g0: vec![0.0],
+                area: vec![1.0],
+            },
+            u0: vec![p.u0],
+            v0: vec![p.v0],
+            probe: Probe {
+                contact: 0,
+                u_dof: 0,
+                w_dof: 0,
+            },
+            energy_shift: shift,
+        })
+    }
+
+    fn exact(&self) -> Option<&dyn ExactContact> {
+        Some(&self.exact)
+    }
+
+    fn field_error(&self) -> Option<Box<dyn FieldError + '_>> {
+        Some(Box::new(PointError(&self.exact)))
+    }
+
+    fn stress_is_function(&self) -> bool {
+        false
+    }
+
+    fn run(&self) -> &RunSpec {
+        &self.run
+    }
+}
+
+/// For one dof the "field" error is `|u_h − u|` (no gradient).
+struct PointError<'a>(&'a SpringMass);
+
+impl FieldError for PointError<'_> {
+    fn errors(&self, u: &[f64], t: f64) -> (f64, f64) {
+        ((u[0] - self.0.eval(t).0).abs(), f64::NAN)
+    }
+}

@@ -1,0 +1,116 @@
+//! One error type for the whole crate: every failure names the file, field, step or value at fault.
+
+use std::path::PathBuf;
+
+/// Result alias used throughout dyncontact.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Everything that can go wrong between a case file and a report.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The case file is not valid TOML or does not match the case schema.
+    #[error("{path}: malformed case file: {message}")]
+    CaseSyntax { path: PathBuf, message: String },
+    /// A field has a value outside its admissible range (negative density, dt ≤ 0, NaN, …).
+    #[error("invalid value for `{field}`: {value} ({requirement})")]
+    InvalidField {
+        field: String,
+        value: String,
+        requirement: String,
+    },
+    /// A name (space, scheme, case) that is not known.
+    #[error("unknown {kind} `{name}` (known: {known})")]
+    UnknownName {
+        kind: &'static str,
+        name: String,
+        known: String,
+    },
+    /// A combination that is well formed but not supported (e.g. singular_dynamic with P1).
+    #[error("unsupported combination: {0}")]
+    Unsupported(String),
+    /// A matrix that must be SPD is not, or a factorisation failed.
+    #[error("factorisation of {matrix} failed: {reason}")]
+    Factorisation { matrix: String, reason: String },
+    /// The contact solver did not converge or produced an inadmissible answer.
+    #[error("contact solver failed at step {step} (t = {time:.6e}): {reason}")]
+    ContactSolver {
+        step: usize,
+        time: f64,
+        reason: String,
+    },
+    /// The discrete solution blew up (NaN or infinite values).
+    #[error("solution diverged at step {step} (t = {time:.6e}): {reason}")]
+    Diverged {
+        step: usize,
+        time: f64,
+        reason: String,
+    },
+    /// Writing CSV output failed.
+    #[error("csv output {path}: {message}")]
+    Csv { path: PathBuf, message: String },
+    /// Plotting failed.
+    #[error("plot {path}: {message}")]
+    Plot { path: PathBuf, message: String },
+}
+
+impl Error {
+    /// An [`Error::InvalidField`] with the offending value printed with `{:?}`.
+    pub fn invalid(field: impl Into<String>, value: impl std::fmt::Debug, req: &str) -> Self {
+        Error::InvalidField {
+            field: field.into(),
+            value: format!("{value:?}"),
+            requirement: req.to_string(),
+        }
+    }
+
+    /// Wraps an I/O error with the path it concerns.
+    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.into(),
+            source,
+        }
+    }
+}
+
+/// Checks that `value` is finite and strictly positive.
+pub fn positive(field: &str, value: f64) -> Result<f64> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(Error::invalid(field, value, "must be finite and > 0"))
+    }
+}
+
+/// Checks that `value` is finite and ≥ 0.
+pub fn non_negative(field: &str, value: f64) -> Result<f64> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(Error::invalid(field, value, "must be finite and >= 0"))
+    }
+}
+
+/// Checks that `value` is finite.
+pub fn finite(field: &str, value: f64) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::invalid(field, value, "must be finite"))
+    }
+}
+
+/// Checks that `value` lies in `[lo, hi]` (and is finite).
+pub fn in_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(value)
+    } else {
+        Err(Error::invalid(field, value, &format!("must lie in [{lo}, {hi}]")))
+    }
+}

@@ -1,0 +1,6 @@
+//! Finite element building blocks: quadrature, reference elements, local and global assembly.
+
+pub mod assembly;
+pub mod lagrange1d;
+pub mod quadrature;
+pub mod segment;

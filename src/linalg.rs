@@ -1,0 +1,337 @@
+//! Sparse linear algebra on top of faer: assembly from triplets, products, and a factorisation that
+//! is analysed and factored once, then solves in place without allocating (faer's `MemStack`).
+
+use crate::error::{Error, Result};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LltRef, SymbolicCholesky,
+};
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Conj, MatMut, Par, Side};
+
+/// Sparse matrix in compressed-column form (faer).
+pub type SpMat = SparseColMat<usize, f64>;
+
+/// Accumulates `(row, col, value)` entries; duplicates are summed on [`TripletBuilder::build`].
+#[derive(Debug, Clone, Default)]
+pub struct TripletBuilder {
+    nrows: usize,
+    ncols: usize,
+    entries: Vec<Triplet<usize, usize, f64>>,
+}
+
+impl TripletBuilder {
+    /// An empty `nrows × ncols` matrix.
+    pub fn new(nrows: usize, ncols: usize) -> Self {
+        Self {
+            nrows,
+            ncols,
+            entries: Vec::new(),
+        }
+    }
+
+    /// Adds `value` at `(row, col)` (summed with previous entries there).
+    pub fn add(&mut self, row: usize, col: usize, value: f64) {
+        debug_assert!(row < self.nrows && col < self.ncols);
+        self.entries.push(Triplet::new(row, col, value));
+    }
+
+    /// Adds `scale · m` with its top-left corner at `(row0, col0)`.
+    pub fn add_scaled(&mut self, row0: usize, col0: usize, scale: f64, m: &SpMat) {
+        for (i, j, v) in triplets(m) {
+            self.add(row0 + i, col0 + j, scale * v);
+        }
+    }
+
+    /// The assembled matrix.
+    pub fn build(&self) -> Result<SpMat> {
+        SpMat::try_new_from_triplets(self.nrows, self.ncols, &self.entries).map_err(|e| {
+            Error::Factorisation {
+                matrix: format!("{}x{} assembly", self.nrows, self.ncols),
+                reason: format!("{e:?}"),
+            }
+        })
+    }
+}
+
+/// Stored entries `(row, col, value)` of a sparse matrix.
+pub fn triplets(m: &SpMat) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+    let m = m.as_ref();
+    (0..m.ncols()).flat_map(move |j| {
+        m.row_idx_of_col_raw(j)
+            .iter()
+            .zip(m.val_of_col(j))
+            .map(move |(&i, &v)| (i, j, v))
+    })
+}
+
+/// `y += alpha · A x`.
+pub fn mul_add(y: &mut [f64], a: &SpMat, x: &[f64], alpha: f64) {
+    let a = a.as_ref();
+    debug_assert_eq!(a.ncols(), x.len());
+    debug_assert_eq!(a.nrows(), y.len());
+    for (j, &xj) in x.iter().enumerate() {
+        if xj == 0.0 {
+            continue;
+        }
+        let s = alpha * xj;
+        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            y[i] += v * s;
+        }
+    }
+}
+
+/// `y += alpha · Aᵀ x`.
+pub fn mul_t_add(y: &mut [f64], a: &SpMat, x: &[f64], alpha: f64) {
+    let a = a.as_ref();
+    debug_assert_eq!(a.nrows(), x.len());
+    debug_assert_eq!(a.ncols(), y.len());
+    for (j, yj) in y.iter_mut().enumerate() {
+        let dot: f64 = a
+            .row_idx_of_col_raw(j)
+            .iter()
+            .zip(a.val_of_col(j))
+            .map(|(&i, &v)| v * x[i])
+            .sum();
+        *yj += alpha * dot;
+    }
+}
+
+/// `A x` as a new vector.
+pub fn mul(a: &SpMat, x: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; a.nrows()];
+    mul_add(&mut y, a, x, 1.0);
+    y
+}
+
+/// `xᵀ A y` for a sparse `A` (no allocation).
+pub fn quad(a: &SpMat, x: &[f64], y: &[f64]) -> f64 {
+    let a = a.as_ref();
+    (0..a.ncols())
+        .map(|j| {
+            y[j] * a
+                .row_idx_of_col_raw(j)
+                .iter()
+                .zip(a.val_of_col(j))
+                .map(|(&i, &v)| x[i] * v)
+                .sum::<f64>()
+        })
+        .sum()
+}
+
+/// Euclidean inner product.
+pub fn dot(x: &[f64], y: &[f64]) -> f64 {
+    x.iter().zip(y).map(|(a, b)| a * b).sum()
+}
+
+/// `y += alpha · x`.
+pub fn axpy(y: &mut [f64], alpha: f64, x: &[f64]) {
+    for (yi, xi) in y.iter_mut().zip(x) {
+        *yi += alpha * xi;
+    }
+}
+
+/// `A = a · X + b · Y` for two sparse matrices of the same shape (union of the patterns).
+pub fn lin_comb(a: f64, x: &SpMat, b: f64, y: &SpMat) -> Result<SpMat> {
+    let mut t = TripletBuilder::new(x.nrows(), x.ncols());
+    t.add_scaled(0, 0, a, x);
+    t.add_scaled(0, 0, b, y);
+    t.build()
+}
+
+/// Which factorisation a [`Factor`] holds.
+enum Kind {
+    /// `A = L Lᵀ` (A SPD), fill-reducing ordering from faer's AMD.
+    Llt {
+        symbolic: SymbolicCholesky<usize>,
+        values: Vec<f64>,
+    },
+    /// `P A Q = L U` with partial pivoting (A square, possibly indefinite).
+    Lu {
+        symbolic: SymbolicLu<usize>,
+        numeric: NumericLu<usize, f64>,
+    },
+}
+
+/// A sparse factorisation computed once; [`Factor::solve_in_place`] then performs the triangular
+/// solves with a preallocated workspace (no allocation per call).
+pub struct Factor {
+    kind: Kind,
+    n: usize,
+    buffer: MemBuffer,
+}
+
+impl std::fmt::Debug for Factor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let kind = match self.kind {
+            Kind::Llt { .. } => "LLt",
+            Kind::Lu { .. } => "LU",
+        };
+        write!(f, "Factor({kind}, n = {})", self.n)
+    }
+}
+
+fn factor_err(name: &str, e: impl std::fmt::Debug) -> Error {
+    Error::Factorisation {
+        matrix: name.to_string(),
+        reason: format!("{e:?}"),
+    }
+}
+
+impl Factor {
+    /// Sparse Cholesky of a symmetric positive definite matrix (both triangles stored; the lower
+    /// one is read). `name` is used in the error when `A` is not numerically SPD.
+    pub fn cholesky(a: &SpMat, name: &str) -> Result<Self> {
+        check_finite(a, name)?;
+        let n = a.nrows();
+        let symbolic = factorize_symbolic_cholesky(
+            a.symbolic(),
+            Side::Lower,
+            Default::default(),
+            Default::default(),
+        )
+        .map_err(|e| factor_err(name, e))?;
+        let mut values = vec![0.0; symbolic.len_val()];
+        let req = symbolic
+            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        let mut buffer = MemBuffer::try_new(req).map_err(|e| factor_err(name, e))?;
+        symbolic
+            .factorize_numeric_llt(
+                &mut values,
+                a.as_ref(),
+                Side::Lower,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut buffer),
+                Default::default(),
+            )
+            .map_err(|_| Error::Factorisation {
+                matrix: name.to_string(),
+                reason: "not symmetric positive definite".into(),
+            })?;
+        Ok(Self {
+            kind: Kind::Llt { symbolic, values },
+            n,
+            buffer,
+        })
+    }
+
+    /// Sparse LU with partial pivoting of a square matrix.
+    pub fn lu(a: &SpMat, name: &str) -> Result<Self> {
+        check_finite(a, name)?;
+        let n = a.nrows();
+        let symbolic =
+            factorize_symbolic_lu(a.symbolic(), Default::default()).map_err(|e| factor_err(name, e))?;
+        let mut numeric = NumericLu::new();
+        let req = symbolic
+            .factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        let mut buffer = MemBuffer::try_new(req).map_err(|e| factor_err(name, e))?;
+        symbolic
+            .factorize_numeric_lu(
+                &mut numeric,
+                a.as_ref(),
+                Par::Seq,
+                MemStack::new(&mut buffer),
+                Default::default(),
+            )
+            .map_err(|e| factor_err(name, e))?;
+        Ok(Self {
+            kind: Kind::Lu { symbolic, numeric },
+            n,
+            buffer,
+        })
+    }
+
+    /// Order of the factored matrix.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// Solves `A x = b` in place (`x` holds `b` on entry).
+    pub fn solve_in_place(&mut self, x: &mut [f64]) {
+        assert_eq!(x.len(), self.n, "right-hand side of the wrong length");
+        let rhs = MatMut::from_column_major_slice_mut(x, self.n, 1);
+        let stack = MemStack::new(&mut self.buffer);
+        match &self.kind {
+            Kind::Llt { symbolic, values } => {
+                LltRef::new(symbolic, values).solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack)
+            }
+            Kind::Lu { symbolic, numeric } => LuRef::new_unchecked(symbolic, numeric)
+                .solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack),
+        }
+    }
+}
+
+fn check_finite(a: &SpMat, name: &str) -> Result<()> {
+    if a.nrows() != a.ncols() {
+        return Err(factor_err(name, format!("not square: {}x{}", a.nrows(), a.ncols())));
+    }
+    if triplets(a).any(|(_, _, v)| !v.is_finite()) {
+        return Err(factor_err(name, "matrix has non-finite entries"));
+    }
+    Ok(())
+}
+
+/// Dense copy (tests and small diagnostics only).
+pub fn to_dense(a: &SpMat) -> nalgebra::DMatrix<f64> {
+    let mut d = nalgebra::DMatrix::zeros(a.nrows(), a.ncols());
+    for (i, j, v) in triplets(a) {
+        d[(i, j)] += v;
+    }
+    d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn laplacian(n: usize) -> SpMat {
+        let mut t = TripletBuilder::new(n, n);
+        for i in 0..n {
+            t.add(i, i, 2.0);
+            if i + 1 < n {
+                t.add(i, i + 1, -1.0);
+                t.add(i + 1, i, -1.0);
+            }
+        }
+        t.build().unwrap()
+    }
+
+    #[test]
+    fn cholesky_and_lu_solve_the_same_system() {
+        let a = laplacian(50);
+        let x: Vec<f64> = (0..50).map(|i| (i as f64 * 0.37).sin()).collect();
+        let b = mul(&a, &x);
+        for mut f in [Factor::cholesky(&a, "A").unwrap(), Factor::lu(&a, "A").unwrap()] {
+            let mut y = b.clone();
+            f.solve_in_place(&mut y);
+            let err = y.iter().zip(&x).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+            assert!(err < 1e-11, "solve error {err}");
+        }
+    }
+
+    #[test]
+    fn cholesky_rejects_an_indefinite_matrix() {
+        let mut t = TripletBuilder::new(2, 2);
+        t.add(0, 0, 1.0);
+        t.add(1, 1, -1.0);
+        let err = Factor::cholesky(&t.build().unwrap(), "K").unwrap_err();
+        assert!(err.to_string().contains("not symmetric positive definite"), "{err}");
+    }
+
+    #[test]
+    fn duplicates_are_summed_and_transpose_product_matches() {
+        let mut t = TripletBuilder::new(2, 3);
+        t.add(0, 1, 1.0);
+        t.add(0, 1, 2.0);
+        t.add(1, 2, 4.0);
+        let a = t.build().unwrap();
+        assert_eq!(to_dense(&a)[(0, 1)], 3.0);
+        let mut y = vec![0.0; 3];
+        mul_t_add(&mut y, &a, &[1.0, 1.0], 1.0);
+        assert_eq!(y, vec![0.0, 3.0, 4.0]);
+    }
+}

@@ -1,0 +1,124 @@
+//! Run metrics (DESIGN.md §6), computed from the probe time series and the field errors.
+
+use crate::run::Row;
+
+/// Metrics of one run. `None` where a metric does not apply (no exact solution, 0D case, …).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Metrics {
+    /// `max_n |E_n − E_0| / |E_0|`.
+    pub energy_drift: f64,
+    /// `E_N / E_0`.
+    pub energy_ratio: f64,
+    /// `max(0, max_n −g_n)` at the probe.
+    pub max_penetration: f64,
+    /// `max_n ‖u_h − u‖_{L²(Ω)}` (0D: `max_n |u_h − u|`).
+    pub err_u_linf_l2: Option<f64>,
+    /// `(Σ_n Δt |u_h − u|²_{H¹(Ω)})^{1/2}` (H¹ seminorm).
+    pub err_u_l2_h1: Option<f64>,
+    /// `(Σ_n Δt (σ_h − σ)²)^{1/2}` at the contact point.
+    pub err_sigma_l2: Option<f64>,
+    /// `max_n |E_n − E(t_n)| / |E(0)|` against the exact energy.
+    pub err_energy: Option<f64>,
+    /// `max_n |u_h(0, t_n) − u(0, t_n)|` at the contact point.
+    pub err_u_contact: Option<f64>,
+    /// Total variation of σ_N over [0, T] divided by the exact one (1: as smooth as the exact
+    /// stress); without an exact stress, divided by `2 max|σ_N|` (one clean pulse = 1).
+    pub sigma_total_variation: f64,
+    /// Effective restitution `−v(t⁺)/v(t⁻)` of the first impact (velocity at the last step
+    /// before contact and at the first step after release).
+    pub restitution_eff: Option<f64>,
+    /// `|t̂ − t*|` for the first impact: t̂ = t_{n−1} + g_{n−1}/(−v_{n−1}) before the first
+    /// active step, t* exact.
+    pub impact_time_err: Option<f64>,
+}
+
+fn total_variation(x: impl Iterator<Item = f64>) -> f64 {
+    let mut prev: Option<f64> = None;
+    let mut tv = 0.0;
+    for v in x {
+        if let Some(p) = prev {
+            tv += (v - p).abs();
+        }
+        prev = Some(v);
+    }
+    tv
+}
+
+/// Computes the metrics. `field` holds the field errors at the same samples as `rows` (may be
+/// empty); `stress_is_function` tells whether the exact σ_N is a function (not impulses).
+/// `exact_first_impact` is the exact time of the first impact, when known.
+pub fn compute(
+    rows: &[Row],
+    field: &[(f64, f64)],
+    dt: f64,
+    stress_is_function: bool,
+    exact_first_impact: Option<f64>,
+) -> Metrics {
+    let e0 = rows[0].energy;
+    let energy_drift = rows.iter().map(|r| (r.energy - e0).abs()).fold(0.0, f64::max) / e0.abs();
+    let energy_ratio = rows[rows.len() - 1].energy / e0;
+    let max_penetration = rows.iter().map(|r| -r.gap).fold(0.0, f64::max);
+    let tv = total_variation(rows.iter().map(|r| r.sigma_contact));
+    let has_exact = rows[0].exact.is_some();
+    let exact_tv = total_variation(rows.iter().filter_map(|r| r.exact.map(|e| e.1)));
+    let sigma_total_variation = if has_exact && stress_is_function && exact_tv > 0.0 {
+        tv / exact_tv
+    } else {
+        let peak = rows.iter().map(|r| r.sigma_contact.abs()).fold(0.0, f64::max);
+        if peak > 0.0 {
+            tv / (2.0 * peak)
+        } else {
+            0.0
+        }
+    };
+    let l2_time = |f: &dyn Fn(usize) -> f64| (1..rows.len()).map(|i| dt * f(i).powi(2)).sum::<f64>().sqrt();
+    let exact_metric = |f: &dyn Fn() -> f64| has_exact.then(f);
+    let (impact, restitution_eff) = first_impact(rows);
+    Metrics {
+        energy_drift,
+        energy_ratio,
+        max_penetration,
+        err_u_linf_l2: (!field.is_empty()).then(|| field.iter().map(|e| e.0).fold(0.0, f64::max)),
+        err_u_l2_h1: (!field.is_empty() && !field[0].1.is_nan())
+            .then(|| l2_time(&|i| field[i].1)),
+        err_sigma_l2: (has_exact && stress_is_function).then(|| {
+            l2_time(&|i| rows[i].sigma_contact - rows[i].exact.map_or(0.0, |e| e.1))
+        }),
+        err_energy: exact_metric(&|| {
+            let ref_e = rows[0].exact.map_or(1.0, |e| e.2).abs();
+            rows.iter()
+                .map(|r| (r.energy - r.exact.map_or(0.0, |e| e.2)).abs())
+                .fold(0.0, f64::max)
+                / ref_e
+        }),
+        err_u_contact: exact_metric(&|| {
+            rows.iter()
+                .map(|r| (r.u_contact - r.exact.map_or(0.0, |e| e.0)).abs())
+                .fold(0.0, f64::max)
+        }),
+        sigma_total_variation,
+        restitution_eff,
+        impact_time_err: impact.zip(exact_first_impact).map(|(a, b)| (a - b).abs()),
+    }
+}
+
+/// Index of the first active step (σ_N < 0), the impact time estimate and the effective
+/// restitution of the first impact.
+fn first_impact(rows: &[Row]) -> (Option<f64>, Option<f64>) {
+    let Some(first) = rows.iter().position(|r| r.sigma_contact < 0.0) else {
+        return (None, None);
+    };
+    if first == 0 {
+        return (None, None);
+    }
+    let before = rows[first - 1];
+    let t_hat = if before.v_contact < 0.0 {
+        Some(before.t + before.gap / (-before.v_contact))
+    } else {
+        None
+    };
+    let release = rows[first..].iter().position(|r| r.sigma_contact == 0.0 && r.gap > 0.0);
+    let e = release.map(|k| -rows[first + k].v_contact / before.v_contact);
+    (t_hat, e)
+}
+

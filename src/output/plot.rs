@@ -1,0 +1,103 @@
+//! PNG plots (plotters, bitmap backend; text through the system's fontconfig fonts).
+
+use crate::error::{Error, Result};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// One curve of a time plot.
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// Points (t, value).
+    pub points: Vec<(f64, f64)>,
+    /// Colour.
+    pub color: RGBColor,
+    /// Dashed (used for exact solutions).
+    pub dashed: bool,
+}
+
+impl Series {
+    /// A solid curve.
+    pub fn solid(label: impl Into<String>, points: Vec<(f64, f64)>, color: RGBColor) -> Self {
+        Self {
+            label: label.into(),
+            points,
+            color,
+            dashed: false,
+        }
+    }
+
+    /// A dashed curve (exact solution).
+    pub fn dashed(label: impl Into<String>, points: Vec<(f64, f64)>, color: RGBColor) -> Self {
+        Self {
+            dashed: true,
+            ..Self::solid(label, points, color)
+        }
+    }
+}
+
+/// Palette for several series.
+pub const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(23, 190, 207),
+];
+
+fn plot_err(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Plot {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}
+
+/// Line plot of several series against time, 1000×600 px.
+pub fn time_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> Result<()> {
+    let pts = || series.iter().flat_map(|s| s.points.iter().copied());
+    let (x0, x1) = pts().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (x, _)| (a.min(x), b.max(x)));
+    let (y0, y1) = pts()
+        .filter(|p| p.1.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (_, y)| (a.min(y), b.max(y)));
+    if !(x0.is_finite() && y0.is_finite()) {
+        return Err(plot_err(path, "nothing to plot"));
+    }
+    let pad = ((y1 - y0) * 0.08).max(1e-12 * y1.abs().max(1.0));
+    let root = BitMapBackend::new(path, (1000, 600)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 24))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
+        .map_err(|e| plot_err(path, e))?;
+    chart
+        .configure_mesh()
+        .x_desc("t")
+        .y_desc(y_label)
+        .label_style(("sans-serif", 16))
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    for s in series {
+        let style = ShapeStyle::from(&s.color).stroke_width(if s.dashed { 2 } else { 1 });
+        let anno = if s.dashed {
+            chart.draw_series(DashedLineSeries::new(s.points.iter().copied(), 8, 6, style))
+        } else {
+            chart.draw_series(LineSeries::new(s.points.iter().copied(), style))
+        }
+        .map_err(|e| plot_err(path, e))?;
+        let c = s.color;
+        anno.label(s.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 16))
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    root.present().map_err(|e| plot_err(path, e))
+}

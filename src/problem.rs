@@ -1,0 +1,297 @@
+//! The semi-discrete contact problem every scheme consumes (DESIGN.md §1):
+//!
+//! `M Ü + K U = F − B_Nᵀ λ`,  `g = g₀ − B_N U ≥ 0`,  `λ ≥ 0`,  `λ · g = 0`.
+//!
+//! Sign convention: `B_N U` is the normal displacement along the body's *outward* normal at the
+//! contact points (it closes the gap), `λ` is the contact pressure (nodal force, compression
+//! positive) and the obstacle pushes the body with `−B_Nᵀ λ`, which opens the gap. (DESIGN.md §1
+//! writes `+B_Nᵀ λ`; with `g = g₀ − B_N U` and `λ ≥ 0` only `−B_Nᵀ λ` does no work on a closing gap.)
+//! The normal contact stress reported is `σ_N = −λ / (tributary area)` (≤ 0).
+
+use crate::error::{Error, Result};
+use crate::linalg::{self, Factor, SpMat, TripletBuilder};
+
+/// The mass operator as a space produces it.
+#[derive(Debug)]
+pub enum Inertia {
+    /// A sparse, symmetric, positive semi-definite `M` (consistent, lumped, redistributed, …).
+    /// The inertial variables are the displacements themselves: `w = U`.
+    Sparse {
+        /// The mass matrix M.
+        m: SpMat,
+    },
+    /// Singular dynamic method (Renard 2010): `M = Bᵀ C⁻¹ B`, never formed. The inertial variables
+    /// are `w = C⁻¹ B U`, the L²(ρ) projection of U on the velocity space H_h.
+    Mixed {
+        /// `B_ij = ∫ρ ψ_i φ_j` (rows: H_h dofs, columns: V_h dofs).
+        b: SpMat,
+        /// `C_ij = ∫ρ ψ_i ψ_j` (H_h mass, SPD).
+        c: SpMat,
+        /// The consistent V_h mass, used only to start from a consistent initial acceleration.
+        consistent: SpMat,
+    },
+}
+
+impl Inertia {
+    /// Number of inertial variables (n for a sparse mass, dim H_h for the mixed one).
+    pub fn dim(&self) -> usize {
+        match self {
+            Inertia::Sparse { m } => m.nrows(),
+            Inertia::Mixed { c, .. } => c.nrows(),
+        }
+    }
+
+    /// Inertial variables of a displacement field: `w = U` or `w = C⁻¹ B U`.
+    pub fn project(&self, u: &[f64]) -> Result<Vec<f64>> {
+        match self {
+            Inertia::Sparse { .. } => Ok(u.to_vec()),
+            Inertia::Mixed { b, c, .. } => {
+                let mut w = linalg::mul(b, u);
+                Factor::cholesky(c, "velocity-space mass C")?.solve_in_place(&mut w);
+                Ok(w)
+            }
+        }
+    }
+
+    /// `out += alpha · Lᵀ y` with `L = M` (sparse) or `L = B` (mixed): the inertial force of the
+    /// inertial vector `y`, as a force on the displacement dofs.
+    pub fn apply_add(&self, out: &mut [f64], y: &[f64], alpha: f64) {
+        match self {
+            Inertia::Sparse { m } => linalg::mul_add(out, m, y, alpha),
+            Inertia::Mixed { b, .. } => linalg::mul_t_add(out, b, y, alpha),
+        }
+    }
+
+    /// Kinetic energy `½ vᵀ M v` (sparse) or `½ vᵀ C v` (mixed, v ∈ H_h).
+    pub fn kinetic(&self, v: &[f64]) -> f64 {
+        match self {
+            Inertia::Sparse { m } => 0.5 * linalg::quad(m, v, v),
+            Inertia::Mixed { c, .. } => 0.5 * linalg::quad(c, v, v),
+        }
+    }
+
+    /// `M x` on displacement dofs (mixed: `Bᵀ C⁻¹ B x`, applied, never formed).
+    pub fn mass_times(&self, x: &[f64]) -> Result<Vec<f64>> {
+        let mut out = vec![0.0; x.len()];
+        self.apply_add(&mut out, &self.project(x)?, 1.0);
+        Ok(out)
+    }
+
+    /// Factors the constant step matrix `m_coef · M + k_coef · K` once. For the mixed mass the
+    /// unknowns are `(U, w)` and the matrix is the sparse saddle system
+    /// `[k_coef K, m_coef Bᵀ; B, −C]` (second block row: `C w = B U`), factored by LU.
+    pub fn step_operator(&self, k: &SpMat, m_coef: f64, k_coef: f64) -> Result<StepOperator> {
+        let n = k.nrows();
+        match self {
+            Inertia::Sparse { m } => {
+                let a = linalg::lin_comb(m_coef, m, k_coef, k)?;
+                Ok(StepOperator {
+                    factor: Factor::cholesky(&a, "step matrix m·M + k·K")?,
+                    n,
+                    mixed: false,
+                    x: vec![0.0; n],
+                })
+            }
+            Inertia::Mixed { b, c, .. } => {
+                let nh = c.nrows();
+                let mut t = TripletBuilder::new(n + nh, n + nh);
+                t.add_scaled(0, 0, k_coef, k);
+                for (i, j, v) in linalg::triplets(b) {
+                    t.add(j, n + i, m_coef * v);
+                    t.add(n + i, j, v);
+                }
+                t.add_scaled(n, n, -1.0, c);
+                Ok(StepOperator {
+                    factor: Factor::lu(&t.build()?, "singular dynamic saddle system")?,
+                    n,
+                    mixed: true,
+                    x: vec![0.0; n + nh],
+                })
+            }
+        }
+    }
+
+    /// Initial inertial acceleration `a₀` from `M A₀ = r` (r = F − K U₀ at rest contact force 0).
+    /// Sparse: solved on the dofs with mass; massless dofs get 0 (their equation is quasi-static).
+    /// Mixed: `a₀ = C⁻¹ B Â` with `M_V Â = r` (M_V the consistent V_h mass): the H_h projection of
+    /// the Galerkin acceleration.
+    pub fn initial_acceleration(&self, r: &[f64]) -> Result<Vec<f64>> {
+        match self {
+            Inertia::Sparse { m } => solve_on_massive_dofs(m, r),
+            Inertia::Mixed { consistent, .. } => {
+                let mut a = r.to_vec();
+                Factor::cholesky(consistent, "consistent mass")?.solve_in_place(&mut a);
+                self.project(&a)
+            }
+        }
+    }
+}
+
+/// Solves `M_rr a_r = r_r` on the dofs with `M_ii > 0`; `a = 0` on massless dofs.
+fn solve_on_massive_dofs(m: &SpMat, r: &[f64]) -> Result<Vec<f64>> {
+    let n = m.nrows();
+    let mut diag = vec![0.0; n];
+    for (i, j, v) in linalg::triplets(m) {
+        if i == j {
+            diag[i] += v;
+        }
+    }
+    let mut reduced = vec![None; n];
+    let mut count = 0;
+    for (i, d) in diag.iter().enumerate() {
+        if *d > 0.0 {
+            reduced[i] = Some(count);
+            count += 1;
+        }
+    }
+    let mut a = vec![0.0; n];
+    if count == 0 {
+        return Ok(a);
+    }
+    let mut t = TripletBuilder::new(count, count);
+    for (i, j, v) in linalg::triplets(m) {
+        if let (Some(p), Some(q)) = (reduced[i], reduced[j]) {
+            t.add(p, q, v);
+        }
+    }
+    let mut x: Vec<f64> = (0..n).filter(|&i| reduced[i].is_some()).map(|i| r[i]).collect();
+    Factor::cholesky(&t.build()?, "mass matrix on its massive dofs")?.solve_in_place(&mut x);
+    for (i, ri) in reduced.iter().enumerate() {
+        if let Some(p) = ri {
+            a[i] = x[*p];
+        }
+    }
+    Ok(a)
+}
+
+/// The factored step matrix of [`Inertia::step_operator`]; solves for `(U, w)`.
+#[derive(Debug)]
+pub struct StepOperator {
+    factor: Factor,
+    n: usize,
+    mixed: bool,
+    x: Vec<f64>,
+}
+
+impl StepOperator {
+    /// Solves the step system with displacement right-hand side `rhs_u` (inertial rows 0),
+    /// writing the displacements to `u` and the inertial variables to `w`. Allocates nothing.
+    pub fn solve(&mut self, rhs_u: &[f64], u: &mut [f64], w: &mut [f64]) {
+        self.x[..self.n].copy_from_slice(rhs_u);
+        self.x[self.n..].fill(0.0);
+        self.factor.solve_in_place(&mut self.x);
+        u.copy_from_slice(&self.x[..self.n]);
+        if self.mixed {
+            w.copy_from_slice(&self.x[self.n..]);
+        } else {
+            w.copy_from_slice(&self.x[..self.n]);
+        }
+    }
+}
+
+/// Contact points: `g = g₀ − B_N U`, tributary areas for the stress `σ_N = −λ/area`.
+#[derive(Debug, Clone)]
+pub struct Contact {
+    /// `B_N` (n_c × n): normal displacement (outward normal) at each contact point.
+    pub b_n: SpMat,
+    /// Initial gaps g₀.
+    pub g0: Vec<f64>,
+    /// Tributary length/area of each contact point (1 for a bar of unit section or a point mass).
+    pub area: Vec<f64>,
+}
+
+impl Contact {
+    /// Number of contact points n_c.
+    pub fn len(&self) -> usize {
+        self.g0.len()
+    }
+
+    /// True when there is no contact point.
+    pub fn is_empty(&self) -> bool {
+        self.g0.is_empty()
+    }
+
+    /// Gaps `g = g₀ − B_N U`, written to `out`.
+    pub fn gap(&self, u: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(&self.g0);
+        linalg::mul_add(out, &self.b_n, u, -1.0);
+    }
+}
+
+/// Where the time series are sampled: contact point `contact`, its displacement dof `u_dof`
+/// (normal direction) and its inertial (velocity) dof `w_dof`.
+#[derive(Debug, Clone, Copy)]
+pub struct Probe {
+    /// Index of the contact point.
+    pub contact: usize,
+    /// Displacement dof of the probe.
+    pub u_dof: usize,
+    /// Velocity dof of the probe in the inertial variables.
+    pub w_dof: usize,
+}
+
+/// `M Ü + K U = F − B_Nᵀ λ` with complementarity, and its initial data.
+#[derive(Debug)]
+pub struct Problem {
+    /// Mass operator.
+    pub inertia: Inertia,
+    /// Stiffness K (SPD once Dirichlet dofs are removed, or PSD with M + K SPD).
+    pub k: SpMat,
+    /// Constant external load F.
+    pub f: Vec<f64>,
+    /// Contact points.
+    pub contact: Contact,
+    /// Initial displacement U₀.
+    pub u0: Vec<f64>,
+    /// Initial velocity V₀ (displacement dofs).
+    pub v0: Vec<f64>,
+    /// Time-series probe.
+    pub probe: Probe,
+    /// Constant added to the energy so that it is the physical one (e.g. ½ k u_e² for a spring
+    /// whose rest position is not at u = 0).
+    pub energy_shift: f64,
+}
+
+impl Problem {
+    /// Number of displacement dofs n.
+    pub fn n(&self) -> usize {
+        self.k.nrows()
+    }
+
+    /// Total energy `E = ½ vᵀ M v + ½ Uᵀ K U − Fᵀ U (+ shift)`, with `v` the inertial velocity.
+    pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
+        self.inertia.kinetic(v) + 0.5 * linalg::quad(&self.k, u, u) - linalg::dot(&self.f, u)
+            + self.energy_shift
+    }
+
+    /// Normal contact stress `σ_N = −λ / area` at contact point `i`.
+    pub fn contact_stress(&self, lambda: &[f64], i: usize) -> f64 {
+        // `+ 0.0` turns −0 into +0 so that a free contact prints as 0.
+        -lambda[i] / self.contact.area[i] + 0.0
+    }
+
+    /// Checks shapes and finiteness; a space or case that builds an inconsistent problem is a bug,
+    /// but a NaN from user data must surface as an error, not as a silent NaN trajectory.
+    pub fn validate(&self) -> Result<()> {
+        let n = self.n();
+        let shape = |what: &str, len: usize, want: usize| {
+            if len == want {
+                Ok(())
+            } else {
+                Err(Error::Unsupported(format!("{what} has length {len}, expected {want}")))
+            }
+        };
+        shape("F", self.f.len(), n)?;
+        shape("U0", self.u0.len(), n)?;
+        shape("V0", self.v0.len(), n)?;
+        shape("B_N columns", self.contact.b_n.ncols(), n)?;
+        shape("B_N rows", self.contact.b_n.nrows(), self.contact.len())?;
+        shape("contact areas", self.contact.area.len(), self.contact.len())?;
+        for (name, v) in [("F", &self.f), ("U0", &self.u0), ("V0", &self.v0), ("g0", &self.contact.g0)] {
+            if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+                return Err(Error::invalid(name, x, "must be finite"));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,30 @@
+//! Mass elimination (GetFEM's dynamic contact demo): no mass is integrated on the elements that
+//! touch Γ_C, `M_ij = Σ_{K ∩ Γ_C = ∅} ∫_K ρ φ_i φ_j`. The contact dofs are massless, but the mass of
+//! those elements is lost (1D: total mass ρ(L − h) per contact end).
+
+use super::{MassModel, Space};
+use crate::error::Result;
+use crate::problem::Inertia;
+use nalgebra::DMatrix;
+
+/// Mass elimination on the elements touching Γ_C.
+#[derive(Debug, Clone, Copy)]
+pub struct MassElimination;
+
+impl Space for MassElimination {
+    fn name(&self) -> &'static str {
+        "mass_elimination"
+    }
+
+    fn inertia(&self, model: &MassModel) -> Result<Inertia> {
+        Ok(Inertia::Sparse {
+            m: model.assemble(|el, _| {
+                if model.touches_contact(el) {
+                    DMatrix::zeros(el.mass.nrows(), el.mass.ncols())
+                } else {
+                    el.mass.clone()
+                }
+            })?,
+        })
+    }
+}

@@ -1,0 +1,113 @@
+//! The contact-coupled linear solve shared by the implicit schemes.
+//!
+//! Each step solves `A x = r − c B_Nᵀ λ` with a constant `A` (factored once) and λ from the LCP
+//! `g = g₀ − B_N U = q + D λ ≥ 0, λ ≥ 0, λ·g = 0`, where `U* = A⁻¹ r` (predictor),
+//! `q = g₀ − B_N U*`, `Z = A⁻¹ B_Nᵀ` and `D = c B_N Z` (Delassus operator, n_c × n_c).
+//! `Z` is kept when it is small (n · n_c ≤ [`STORE_Z_LIMIT`]); otherwise the corrected
+//! state is obtained by a second solve.
+
+use crate::contact::{SolveInfo, Solver};
+use crate::error::{Error, Result};
+use crate::linalg;
+use crate::problem::{Problem, StepOperator};
+use nalgebra::DMatrix;
+
+/// Above this many entries `Z = A⁻¹ B_Nᵀ` is not stored; a second solve is done instead.
+pub const STORE_Z_LIMIT: usize = 20_000_000;
+
+/// Constant step operator with its contact coupling.
+pub struct ContactStep {
+    op: StepOperator,
+    solver: Box<dyn Solver>,
+    /// Columns of `A⁻¹ B_Nᵀ` (displacement part, inertial part), when stored.
+    z: Option<(Vec<Vec<f64>>, Vec<Vec<f64>>)>,
+    d: DMatrix<f64>,
+    c: f64,
+    q: Vec<f64>,
+    rhs: Vec<f64>,
+}
+
+impl ContactStep {
+    /// Factors `m_coef M + k_coef K` and forms the Delassus matrix `D = c B_N A⁻¹ B_Nᵀ`
+    /// (`c` is the factor of `B_Nᵀ λ` in the step equation).
+    pub fn new(
+        problem: &Problem,
+        m_coef: f64,
+        k_coef: f64,
+        c: f64,
+        solver: Box<dyn Solver>,
+    ) -> Result<Self> {
+        let mut op = problem.inertia.step_operator(&problem.k, m_coef, k_coef)?;
+        let (n, nw, nc) = (problem.n(), problem.inertia.dim(), problem.contact.len());
+        let mut d = DMatrix::zeros(nc, nc);
+        let mut zu = Vec::with_capacity(nc);
+        let mut zw = Vec::with_capacity(nc);
+        let store = (n + nw) * nc <= STORE_Z_LIMIT;
+        let mut e = vec![0.0; nc];
+        let mut rhs = vec![0.0; n];
+        let mut gcol = vec![0.0; nc];
+        for j in 0..nc {
+            e.fill(0.0);
+            e[j] = 1.0;
+            rhs.fill(0.0);
+            linalg::mul_t_add(&mut rhs, &problem.contact.b_n, &e, 1.0);
+            let (mut u, mut w) = (vec![0.0; n], vec![0.0; nw]);
+            op.solve(&rhs, &mut u, &mut w);
+            gcol.fill(0.0);
+            linalg::mul_add(&mut gcol, &problem.contact.b_n, &u, c);
+            d.set_column(j, &nalgebra::DVector::from_column_slice(&gcol));
+            if store {
+                zu.push(u);
+                zw.push(w);
+            }
+        }
+        let d = (&d + d.transpose()) * 0.5;
+        Ok(Self {
+            op,
+            solver,
+            z: store.then_some((zu, zw)),
+            d,
+            c,
+            q: vec![0.0; nc],
+            rhs: vec![0.0; n],
+        })
+    }
+
+    /// Solves `A (U, w) = r − c B_Nᵀ λ` with the contact law; `lambda` is a warm start on entry.
+    pub fn solve(
+        &mut self,
+        problem: &Problem,
+        r: &[f64],
+        u: &mut [f64],
+        w: &mut [f64],
+        lambda: &mut [f64],
+        step: usize,
+        time: f64,
+    ) -> Result<SolveInfo> {
+        self.op.solve(r, u, w);
+        problem.contact.gap(u, &mut self.q);
+        let info = self
+            .solver
+            .solve(&self.d, &self.q, lambda)
+            .map_err(|reason| Error::ContactSolver { step, time, reason })?;
+        if info.active == 0 {
+            return Ok(info);
+        }
+        match &self.z {
+            Some((zu, zw)) => {
+                for (j, &l) in lambda.iter().enumerate() {
+                    if l != 0.0 {
+                        linalg::axpy(u, -self.c * l, &zu[j]);
+                        linalg::axpy(w, -self.c * l, &zw[j]);
+                    }
+                }
+            }
+            None => {
+                self.rhs.copy_from_slice(r);
+                linalg::mul_t_add(&mut self.rhs, &problem.contact.b_n, lambda, -self.c);
+                self.op.solve(&self.rhs, u, w);
+            }
+        }
+        Ok(info)
+    }
+}
