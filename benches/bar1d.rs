@@ -29,8 +29,17 @@ fn bar(elements: usize, degree: usize) -> Bar1d {
 
 /// Prepare and take `steps` steps; returns the final contact displacement.
 fn simulate(case: &Bar1d, space: &str, steps: usize) -> f64 {
-    let problem = case.problem(dyncontact::space::by_name(space).unwrap().as_ref()).unwrap();
-    let scheme = dyncontact::time::by_name("newmark", dyncontact::time::SchemeParams { beta: 0.5, gamma: 0.5 }).unwrap();
+    let problem = case
+        .problem(dyncontact::space::by_name(space).unwrap().as_ref())
+        .unwrap();
+    let scheme = dyncontact::time::by_name(
+        "newmark",
+        dyncontact::time::SchemeParams {
+            beta: 0.5,
+            gamma: 0.5,
+        },
+    )
+    .unwrap();
     let solver = dyncontact::contact::by_name("active_set", 1).unwrap();
     let mut it = scheme.prepare(&problem, case.run().dt, solver).unwrap();
     for _ in 0..steps {
@@ -45,7 +54,9 @@ fn full_run(c: &mut Criterion) {
     for space in dyncontact::space::SPACES {
         let degree = if *space == "singular_dynamic" { 2 } else { 1 };
         let case = bar(1000, degree);
-        g.bench_function(*space, |b| b.iter(|| black_box(simulate(&case, space, 1000))));
+        g.bench_function(*space, |b| {
+            b.iter(|| black_box(simulate(&case, space, 1000)))
+        });
     }
     g.finish();
 }

@@ -111,6 +111,10 @@ pub fn in_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
     if value.is_finite() && (lo..=hi).contains(&value) {
         Ok(value)
     } else {
-        Err(Error::invalid(field, value, &format!("must lie in [{lo}, {hi}]")))
+        Err(Error::invalid(
+            field,
+            value,
+            &format!("must lie in [{lo}, {hi}]"),
+        ))
     }
 }

@@ -16,6 +16,7 @@ pub mod mesh;
 pub mod metrics;
 pub mod output;
 pub mod problem;
+pub mod report;
 pub mod run;
 pub mod space;
 pub mod time;

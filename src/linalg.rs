@@ -3,9 +3,7 @@
 
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LltRef, SymbolicCholesky,
-};
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Par, Side};
@@ -222,8 +220,8 @@ impl Factor {
     pub fn lu(a: &SpMat, name: &str) -> Result<Self> {
         check_finite(a, name)?;
         let n = a.nrows();
-        let symbolic =
-            factorize_symbolic_lu(a.symbolic(), Default::default()).map_err(|e| factor_err(name, e))?;
+        let symbolic = factorize_symbolic_lu(a.symbolic(), Default::default())
+            .map_err(|e| factor_err(name, e))?;
         let mut numeric = NumericLu::new();
         let req = symbolic
             .factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default())
@@ -256,9 +254,8 @@ impl Factor {
         let rhs = MatMut::from_column_major_slice_mut(x, self.n, 1);
         let stack = MemStack::new(&mut self.buffer);
         match &self.kind {
-            Kind::Llt { symbolic, values } => {
-                LltRef::new(symbolic, values).solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack)
-            }
+            Kind::Llt { symbolic, values } => LltRef::new(symbolic, values)
+                .solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack),
             Kind::Lu { symbolic, numeric } => LuRef::new_unchecked(symbolic, numeric)
                 .solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack),
         }
@@ -267,7 +264,10 @@ impl Factor {
 
 fn check_finite(a: &SpMat, name: &str) -> Result<()> {
     if a.nrows() != a.ncols() {
-        return Err(factor_err(name, format!("not square: {}x{}", a.nrows(), a.ncols())));
+        return Err(factor_err(
+            name,
+            format!("not square: {}x{}", a.nrows(), a.ncols()),
+        ));
     }
     if triplets(a).any(|(_, _, v)| !v.is_finite()) {
         return Err(factor_err(name, "matrix has non-finite entries"));
@@ -305,10 +305,17 @@ mod tests {
         let a = laplacian(50);
         let x: Vec<f64> = (0..50).map(|i| (i as f64 * 0.37).sin()).collect();
         let b = mul(&a, &x);
-        for mut f in [Factor::cholesky(&a, "A").unwrap(), Factor::lu(&a, "A").unwrap()] {
+        for mut f in [
+            Factor::cholesky(&a, "A").unwrap(),
+            Factor::lu(&a, "A").unwrap(),
+        ] {
             let mut y = b.clone();
             f.solve_in_place(&mut y);
-            let err = y.iter().zip(&x).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+            let err = y
+                .iter()
+                .zip(&x)
+                .map(|(p, q)| (p - q).abs())
+                .fold(0.0, f64::max);
             assert!(err < 1e-11, "solve error {err}");
         }
     }
@@ -319,7 +326,10 @@ mod tests {
         t.add(0, 0, 1.0);
         t.add(1, 1, -1.0);
         let err = Factor::cholesky(&t.build().unwrap(), "K").unwrap_err();
-        assert!(err.to_string().contains("not symmetric positive definite"), "{err}");
+        assert!(
+            err.to_string().contains("not symmetric positive definite"),
+            "{err}"
+        );
     }
 
     #[test]

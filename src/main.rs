@@ -22,6 +22,15 @@ enum Command {
         #[arg(default_value = "cases")]
         dir: PathBuf,
     },
+    /// Run the bar1d convergence study and the spring-mass table; write CSVs, PNGs and index.md.
+    Report {
+        /// Output directory.
+        #[arg(long, default_value = "reports")]
+        out: PathBuf,
+        /// Directory of the case files (bar1d.toml, spring_mass.toml).
+        #[arg(long, default_value = "cases")]
+        cases: PathBuf,
+    },
     /// Run one case and write timeseries.csv, summary.csv, energy.png and contact.png.
     Run {
         /// Case file (TOML).
@@ -66,19 +75,33 @@ fn list(dir: &PathBuf) -> Result<()> {
     entries.sort();
     for p in entries {
         match cases::load(&p, &Overrides::default()) {
-            Ok(c) => println!("{}  ({}, space {}, scheme {})", p.display(), c.kind(), c.run().space, c.run().scheme),
+            Ok(c) => println!(
+                "{}  ({}, space {}, scheme {})",
+                p.display(),
+                c.kind(),
+                c.run().space,
+                c.run().scheme
+            ),
             Err(e) => println!("{}  (invalid: {e})", p.display()),
         }
     }
     println!("spaces: {}", dyncontact::space::SPACES.join(", "));
     println!("schemes: {}", dyncontact::time::SCHEMES.join(", "));
-    println!("contact solvers: {}", dyncontact::contact::SOLVERS.join(", "));
+    println!(
+        "contact solvers: {}",
+        dyncontact::contact::SOLVERS.join(", ")
+    );
     Ok(())
 }
 
 fn main_result(cli: Cli) -> Result<()> {
     match cli.command {
         Command::List { dir } => list(&dir),
+        Command::Report { out, cases } => {
+            dyncontact::report::report(&cases, &out, &mut |msg| eprintln!("running {msg}"))?;
+            println!("wrote {}/index.md", out.display());
+            Ok(())
+        }
         Command::Run {
             case,
             space,
@@ -110,7 +133,10 @@ fn main_result(cli: Cli) -> Result<()> {
                 "{} {} {} ({}): {} dofs, {} steps in {:.3} s; energy drift {:.3e}, max penetration {:.3e}",
                 s.case, s.space, s.scheme, s.parameters, s.dofs, s.steps, s.wall_time, m.energy_drift, m.max_penetration
             );
-            println!("wrote {}/{{timeseries.csv, summary.csv, energy.png, contact.png}}", out.display());
+            println!(
+                "wrote {}/{{timeseries.csv, summary.csv, energy.png, contact.png}}",
+                out.display()
+            );
             Ok(())
         }
     }

@@ -55,7 +55,11 @@ pub fn compute(
     exact_first_impact: Option<f64>,
 ) -> Metrics {
     let e0 = rows[0].energy;
-    let energy_drift = rows.iter().map(|r| (r.energy - e0).abs()).fold(0.0, f64::max) / e0.abs();
+    let energy_drift = rows
+        .iter()
+        .map(|r| (r.energy - e0).abs())
+        .fold(0.0, f64::max)
+        / e0.abs();
     let energy_ratio = rows[rows.len() - 1].energy / e0;
     let max_penetration = rows.iter().map(|r| -r.gap).fold(0.0, f64::max);
     let tv = total_variation(rows.iter().map(|r| r.sigma_contact));
@@ -64,14 +68,22 @@ pub fn compute(
     let sigma_total_variation = if has_exact && stress_is_function && exact_tv > 0.0 {
         tv / exact_tv
     } else {
-        let peak = rows.iter().map(|r| r.sigma_contact.abs()).fold(0.0, f64::max);
+        let peak = rows
+            .iter()
+            .map(|r| r.sigma_contact.abs())
+            .fold(0.0, f64::max);
         if peak > 0.0 {
             tv / (2.0 * peak)
         } else {
             0.0
         }
     };
-    let l2_time = |f: &dyn Fn(usize) -> f64| (1..rows.len()).map(|i| dt * f(i).powi(2)).sum::<f64>().sqrt();
+    let l2_time = |f: &dyn Fn(usize) -> f64| {
+        (1..rows.len())
+            .map(|i| dt * f(i).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
     let exact_metric = |f: &dyn Fn() -> f64| has_exact.then(f);
     let (impact, restitution_eff) = first_impact(rows);
     Metrics {
@@ -79,11 +91,9 @@ pub fn compute(
         energy_ratio,
         max_penetration,
         err_u_linf_l2: (!field.is_empty()).then(|| field.iter().map(|e| e.0).fold(0.0, f64::max)),
-        err_u_l2_h1: (!field.is_empty() && !field[0].1.is_nan())
-            .then(|| l2_time(&|i| field[i].1)),
-        err_sigma_l2: (has_exact && stress_is_function).then(|| {
-            l2_time(&|i| rows[i].sigma_contact - rows[i].exact.map_or(0.0, |e| e.1))
-        }),
+        err_u_l2_h1: (!field.is_empty() && !field[0].1.is_nan()).then(|| l2_time(&|i| field[i].1)),
+        err_sigma_l2: (has_exact && stress_is_function)
+            .then(|| l2_time(&|i| rows[i].sigma_contact - rows[i].exact.map_or(0.0, |e| e.1))),
         err_energy: exact_metric(&|| {
             let ref_e = rows[0].exact.map_or(1.0, |e| e.2).abs();
             rows.iter()
@@ -117,8 +127,9 @@ fn first_impact(rows: &[Row]) -> (Option<f64>, Option<f64>) {
     } else {
         None
     };
-    let release = rows[first..].iter().position(|r| r.sigma_contact == 0.0 && r.gap > 0.0);
+    let release = rows[first..]
+        .iter()
+        .position(|r| r.sigma_contact == 0.0 && r.gap > 0.0);
     let e = release.map(|k| -rows[first + k].v_contact / before.v_contact);
     (t_hat, e)
 }
-

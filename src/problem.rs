@@ -11,8 +11,9 @@
 use crate::error::{Error, Result};
 use crate::linalg::{self, Factor, SpMat, TripletBuilder};
 
-/// The mass operator as a space produces it.
+/// The mass operator as a space produces it (built once per run: variant sizes do not matter).
 #[derive(Debug)]
+#[allow(clippy::large_enum_variant)]
 pub enum Inertia {
     /// A sparse, symmetric, positive semi-definite `M` (consistent, lumped, redistributed, …).
     /// The inertial variables are the displacements themselves: `w = U`.
@@ -154,7 +155,10 @@ fn solve_on_massive_dofs(m: &SpMat, r: &[f64]) -> Result<Vec<f64>> {
             t.add(p, q, v);
         }
     }
-    let mut x: Vec<f64> = (0..n).filter(|&i| reduced[i].is_some()).map(|i| r[i]).collect();
+    let mut x: Vec<f64> = (0..n)
+        .filter(|&i| reduced[i].is_some())
+        .map(|i| r[i])
+        .collect();
     Factor::cholesky(&t.build()?, "mass matrix on its massive dofs")?.solve_in_place(&mut x);
     for (i, ri) in reduced.iter().enumerate() {
         if let Some(p) = ri {
@@ -278,7 +282,9 @@ impl Problem {
             if len == want {
                 Ok(())
             } else {
-                Err(Error::Unsupported(format!("{what} has length {len}, expected {want}")))
+                Err(Error::Unsupported(format!(
+                    "{what} has length {len}, expected {want}"
+                )))
             }
         };
         shape("F", self.f.len(), n)?;
@@ -287,7 +293,12 @@ impl Problem {
         shape("B_N columns", self.contact.b_n.ncols(), n)?;
         shape("B_N rows", self.contact.b_n.nrows(), self.contact.len())?;
         shape("contact areas", self.contact.area.len(), self.contact.len())?;
-        for (name, v) in [("F", &self.f), ("U0", &self.u0), ("V0", &self.v0), ("g0", &self.contact.g0)] {
+        for (name, v) in [
+            ("F", &self.f),
+            ("U0", &self.u0),
+            ("V0", &self.v0),
+            ("g0", &self.contact.g0),
+        ] {
             if let Some(x) = v.iter().find(|x| !x.is_finite()) {
                 return Err(Error::invalid(name, x, "must be finite"));
             }

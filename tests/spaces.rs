@@ -13,7 +13,14 @@ use nalgebra::{DMatrix, DVector};
 /// An unclamped bar (0, 1), ρ = 1, with `n` elements of degree `degree` (no Dirichlet dof, so the
 /// full mass is visible).
 fn free_bar(n: usize, degree: usize) -> Bar1d {
-    Bar1d::new(UNIT_BAR, n, degree, false, run_spec("standard", 0.5, 0.5, 0.01, 1.0)).unwrap()
+    Bar1d::new(
+        UNIT_BAR,
+        n,
+        degree,
+        false,
+        run_spec("standard", 0.5, 0.5, 0.01, 1.0),
+    )
+    .unwrap()
 }
 
 /// Dense M of a space (tests only: small sizes).
@@ -32,7 +39,10 @@ fn dense_mass(model: &MassModel, space: &str) -> DMatrix<f64> {
 }
 
 fn coords(bar: &Bar1d) -> DVector<f64> {
-    DVector::from_iterator(bar.space.n_nodes(), (0..bar.space.n_nodes()).map(|i| bar.space.node_x(i)))
+    DVector::from_iterator(
+        bar.space.n_nodes(),
+        (0..bar.space.n_nodes()).map(|i| bar.space.node_x(i)),
+    )
 }
 
 fn assert_symmetric_psd(m: &DMatrix<f64>, what: &str) {
@@ -52,8 +62,15 @@ fn every_space_but_mass_elimination_conserves_the_total_mass() {
                 continue;
             }
             let total = (ones.transpose() * dense_mass(&model, space) * &ones)[0];
-            let expected = if *space == "mass_elimination" { 1.0 - 0.25 } else { 1.0 };
-            assert!((total - expected).abs() < 1e-13, "{space} P{degree}: total mass {total}");
+            let expected = if *space == "mass_elimination" {
+                1.0 - 0.25
+            } else {
+                1.0
+            };
+            assert!(
+                (total - expected).abs() < 1e-13,
+                "{space} P{degree}: total mass {total}"
+            );
         }
     }
 }
@@ -64,7 +81,10 @@ fn mass_redistribution_p1_matches_the_worked_numbers_and_keeps_the_total_mass() 
     let bar = free_bar(4, 1);
     let m = dense_mass(&bar.mass_model(), "mass_redistribution");
     let h = 0.25;
-    assert!(m.row(0).amax() == 0.0 && m.column(0).amax() == 0.0, "contact dof has inertia");
+    assert!(
+        m.row(0).amax() == 0.0 && m.column(0).amax() == 0.0,
+        "contact dof has inertia"
+    );
     assert!((m[(1, 1)] - 4.0 * h / 3.0).abs() < 1e-15);
     assert_symmetric_psd(&m, "P1 M̃");
     let rank = rank(&m);
@@ -83,10 +103,17 @@ fn mass_redistribution_p2_keeps_total_mass_and_first_and_second_moments() {
         assert!(m.row(0).amax() < 1e-15 && m.column(0).amax() < 1e-15);
         assert_symmetric_psd(&m, "P2 M̃");
         assert_eq!(rank(&m), m.nrows() - 1);
-        for (name, a, b) in [("total", &one, &one), ("first", &x, &one), ("second", &x, &x)] {
+        for (name, a, b) in [
+            ("total", &one, &one),
+            ("first", &x, &one),
+            ("second", &x, &x),
+        ] {
             let kept = (a.transpose() * &m * b)[0];
             let orig = (a.transpose() * &m0 * b)[0];
-            assert!((kept - orig).abs() < 1e-14, "N={n}: {name} moment {kept} vs {orig}");
+            assert!(
+                (kept - orig).abs() < 1e-14,
+                "N={n}: {name} moment {kept} vs {orig}"
+            );
         }
     }
 }
@@ -120,9 +147,16 @@ fn singular_dynamic_reproduces_the_worked_numbers() {
         assert_eq!(rank(&m), n + 1, "rank M = dim H_h");
         let one = DVector::from_element(m.nrows(), 1.0);
         assert!(((one.transpose() * &m * &one)[0] - 1.0).abs() < 1e-13);
-        assert!((m[(0, 0)] * n as f64 - m00n).abs() < 1e-9, "N={n}: M00·N = {}", m[(0, 0)] * n as f64);
+        assert!(
+            (m[(0, 0)] * n as f64 - m00n).abs() < 1e-9,
+            "N={n}: M00·N = {}",
+            m[(0, 0)] * n as f64
+        );
         let (b, _) = mixed_matrices(&model).unwrap();
-        assert!(inf_sup_holds(&to_dense(&b), &model.contact_dofs), "inf-sup fails for N={n}");
+        assert!(
+            inf_sup_holds(&to_dense(&b), &model.contact_dofs),
+            "inf-sup fails for N={n}"
+        );
         // The contact dof keeps mass, and M is dense: row 0 reaches the far end.
         assert!(m[(0, 0)] > 0.0 && m[(0, m.ncols() - 1)].abs() > 0.0);
     }
@@ -130,6 +164,9 @@ fn singular_dynamic_reproduces_the_worked_numbers() {
 
 #[test]
 fn singular_dynamic_with_p1_displacement_is_a_clear_error() {
-    let err = by_name("singular_dynamic").unwrap().inertia(&free_bar(4, 1).mass_model()).unwrap_err();
+    let err = by_name("singular_dynamic")
+        .unwrap()
+        .inertia(&free_bar(4, 1).mass_model())
+        .unwrap_err();
     assert!(err.to_string().contains("degree 2"), "{err}");
 }

@@ -4,7 +4,12 @@ use dyncontact::cases::{self, Overrides};
 use dyncontact::run::run;
 use std::path::Path;
 
-fn spring(space: &str, beta: f64, gamma: f64, dt: f64) -> dyncontact::Result<dyncontact::run::RunResult> {
+fn spring(
+    space: &str,
+    beta: f64,
+    gamma: f64,
+    dt: f64,
+) -> dyncontact::Result<dyncontact::run::RunResult> {
     let o = Overrides {
         space: Some(space.into()),
         beta: Some(beta),
@@ -24,7 +29,10 @@ fn newmark_half_half_reproduces_the_elastic_bounce() {
     for space in ["standard", "lumped"] {
         let coarse = spring(space, 0.5, 0.5, 1e-2).unwrap().summary.metrics;
         let fine = spring(space, 0.5, 0.5, 1e-3).unwrap().summary.metrics;
-        println!("{space}: e_eff {:?} {:?}", coarse.restitution_eff, fine.restitution_eff);
+        println!(
+            "{space}: e_eff {:?} {:?}",
+            coarse.restitution_eff, fine.restitution_eff
+        );
         assert!((fine.restitution_eff.unwrap() - 1.0).abs() < 1e-3);
         let (ec, ef) = (coarse.err_u_linf_l2.unwrap(), fine.err_u_linf_l2.unwrap());
         assert!((ec / ef).log10() > 0.8, "trajectory error {ec:e} -> {ef:e}");
@@ -47,7 +55,11 @@ fn newmark_trapezoidal_rebounds_with_restitution_above_one() {
 /// Spaces that remove the inertia of the contact dof leave nothing to move on one dof.
 #[test]
 fn inertia_free_spaces_are_rejected_on_the_single_dof() {
-    for space in ["mass_redistribution", "mass_elimination", "singular_dynamic"] {
+    for space in [
+        "mass_redistribution",
+        "mass_elimination",
+        "singular_dynamic",
+    ] {
         let err = spring(space, 0.5, 0.5, 1e-2).unwrap_err().to_string();
         assert!(err.contains("single dof"), "{space}: {err}");
     }

@@ -98,11 +98,17 @@ impl Bar1d {
             density: spec.material.density,
             lift: spec.geometry.lift,
         };
-        Ok(Self::new(exact, elements, degree, true, run)?)
+        Self::new(exact, elements, degree, true, run)
     }
 
     /// The bar with `elements` elements of degree `degree`, clamped at x = L when `clamped`.
-    pub fn new(exact: BarImpact, elements: usize, degree: usize, clamped: bool, run: RunSpec) -> Result<Self> {
+    pub fn new(
+        exact: BarImpact,
+        elements: usize,
+        degree: usize,
+        clamped: bool,
+        run: RunSpec,
+    ) -> Result<Self> {
         let mesh = IntervalMesh::new(exact.length, elements)?;
         let fixed: &[f64] = if clamped { &[exact.length] } else { &[] };
         Ok(Self {
@@ -120,7 +126,9 @@ impl Bar1d {
         let n_el = s.mesh.n_elements;
         let elements = (0..n_el)
             .map(|e| ElementMass {
-                x: s.element_nodes(e).map(|i| [s.node_x(i), 0.0, 0.0]).collect(),
+                x: s.element_nodes(e)
+                    .map(|i| [s.node_x(i), 0.0, 0.0])
+                    .collect(),
                 mass: local.clone(),
                 dofs: vec![s.element_dofs(e)],
             })

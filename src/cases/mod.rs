@@ -80,7 +80,11 @@ impl RunSpec {
         positive("run.dt", self.dt)?;
         positive("run.t_end", self.t_end)?;
         if self.dt > self.t_end {
-            return Err(Error::invalid("run.dt", self.dt, "must not exceed run.t_end"));
+            return Err(Error::invalid(
+                "run.dt",
+                self.dt,
+                "must not exceed run.t_end",
+            ));
         }
         crate::space::by_name(&self.space)?;
         crate::time::by_name(&self.scheme, self.scheme_params())?;
@@ -162,10 +166,11 @@ pub fn parse(text: &str, path: &Path, overrides: &Overrides) -> Result<Box<dyn C
     let header: Header = toml::from_str::<toml::Table>(text)
         .map_err(syntax)
         .and_then(|t| {
-            t.try_into().map_err(|e: toml::de::Error| Error::CaseSyntax {
-                path: path.to_path_buf(),
-                message: format!("missing or invalid `case` field: {e}"),
-            })
+            t.try_into()
+                .map_err(|e: toml::de::Error| Error::CaseSyntax {
+                    path: path.to_path_buf(),
+                    message: format!("missing or invalid `case` field: {e}"),
+                })
         })?;
     match header.case.as_str() {
         "bar1d" => Ok(Box::new(bar1d::Bar1d::from_spec(

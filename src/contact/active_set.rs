@@ -32,7 +32,12 @@ impl ActiveSet {
     }
 
     /// Solves `D_𝒜𝒜 λ_𝒜 = −q_𝒜` by a dense Cholesky of the active block (in the workspace).
-    fn solve_active(&mut self, d: &DMatrix<f64>, q: &[f64], lambda: &mut [f64]) -> Result<(), String> {
+    fn solve_active(
+        &mut self,
+        d: &DMatrix<f64>,
+        q: &[f64],
+        lambda: &mut [f64],
+    ) -> Result<(), String> {
         self.index.clear();
         self.index.extend((0..q.len()).filter(|&i| self.active[i]));
         let k = self.index.len();
@@ -45,7 +50,9 @@ impl ActiveSet {
                 }
                 if a == b {
                     if s <= 0.0 || !s.is_finite() {
-                        return Err(format!("Delassus block not positive definite (pivot {s:e})"));
+                        return Err(format!(
+                            "Delassus block not positive definite (pivot {s:e})"
+                        ));
                     }
                     l[a * k + a] = s.sqrt();
                 } else {
@@ -81,12 +88,20 @@ impl Solver for ActiveSet {
         "active_set"
     }
 
-    fn solve(&mut self, d: &DMatrix<f64>, q: &[f64], lambda: &mut [f64]) -> Result<SolveInfo, String> {
+    fn solve(
+        &mut self,
+        d: &DMatrix<f64>,
+        q: &[f64],
+        lambda: &mut [f64],
+    ) -> Result<SolveInfo, String> {
         let n = q.len();
         if n == 0 {
             return Ok(SolveInfo::default());
         }
-        let scale = q.iter().fold(0.0f64, |m, x| m.max(x.abs())).max(f64::MIN_POSITIVE);
+        let scale = q
+            .iter()
+            .fold(0.0f64, |m, x| m.max(x.abs()))
+            .max(f64::MIN_POSITIVE);
         let dmax = (0..n).fold(0.0f64, |m, i| m.max(d[(i, i)]));
         let (tol_g, tol_l) = (1e-13 * scale, 1e-13 * scale / dmax.max(f64::MIN_POSITIVE));
         for (a, l) in self.active.iter_mut().zip(lambda.iter()) {
@@ -115,7 +130,10 @@ impl Solver for ActiveSet {
                 }
             }
         }
-        Err(format!("no complementary solution after {} pivots", self.max_iterations))
+        Err(format!(
+            "no complementary solution after {} pivots",
+            self.max_iterations
+        ))
     }
 }
 
@@ -126,7 +144,11 @@ mod tests {
     fn check(d: &DMatrix<f64>, q: &[f64], l: &[f64]) {
         for i in 0..q.len() {
             let g = q[i] + (0..q.len()).map(|j| d[(i, j)] * l[j]).sum::<f64>();
-            assert!(l[i] >= 0.0 && g >= -1e-12 && (l[i] * g).abs() < 1e-12, "i={i} λ={} g={g}", l[i]);
+            assert!(
+                l[i] >= 0.0 && g >= -1e-12 && (l[i] * g).abs() < 1e-12,
+                "i={i} λ={} g={g}",
+                l[i]
+            );
         }
     }
 

@@ -69,7 +69,11 @@ impl SpringMass {
         non_negative("stiffness", p.stiffness)?;
         non_negative("u0", p.u0)?;
         crate::error::in_range("restitution", p.restitution, 0.0, 1.0)?;
-        for (f, v) in [("rest_position", p.rest_position), ("force", p.force), ("v0", p.v0)] {
+        for (f, v) in [
+            ("rest_position", p.rest_position),
+            ("force", p.force),
+            ("v0", p.v0),
+        ] {
             crate::error::finite(f, v)?;
         }
         let mut segments = vec![Segment {
@@ -81,7 +85,9 @@ impl SpringMass {
         let mut impacts = Vec::new();
         let mut seg = segments[0];
         while impacts.len() < MAX_IMPACTS {
-            let Some(tau) = next_impact(&p, seg.u0, seg.v0) else { break };
+            let Some(tau) = next_impact(&p, seg.u0, seg.v0) else {
+                break;
+            };
             let t_imp = seg.t0 + tau;
             if t_imp > t_end {
                 break;
@@ -118,7 +124,11 @@ impl SpringMass {
         let i = self.segments.partition_point(|s| s.t0 <= t).max(1) - 1;
         let s = self.segments[i];
         if s.resting {
-            return (0.0, 0.0, -(self.p.force + self.p.stiffness * self.p.rest_position));
+            return (
+                0.0,
+                0.0,
+                -(self.p.force + self.p.stiffness * self.p.rest_position),
+            );
         }
         let (u, v) = flight(&self.p, s.u0, s.v0, t - s.t0);
         (u.max(0.0), v, 0.0)
@@ -173,7 +183,11 @@ fn next_impact(p: &SpringMassParams, u0: f64, v0: f64) -> Option<f64> {
 impl ExactContact for SpringMass {
     fn contact(&self, t: f64) -> ContactValues {
         let (u, v, lambda) = self.eval(t);
-        ContactValues { u, v, sigma: -lambda }
+        ContactValues {
+            u,
+            v,
+            sigma: -lambda,
+        }
     }
 
     /// `½ m u̇² + ½ k (u − u_e)²`, or `½ m u̇² − f u` when k = 0; constant for e = 1.
@@ -258,7 +272,14 @@ mod tests {
         let big_v = (1.0f64 + 2.0 * 9.81 * 2.0).sqrt();
         assert!((s.impacts[0] - (1.0 + big_v) / 9.81).abs() < 1e-12);
         assert!((s.impacts[1] - s.impacts[0] - 2.0 * big_v / 9.81).abs() < 1e-12);
-        let plastic = SpringMass::new(SpringMassParams { restitution: 0.0, ..p }, 10.0).unwrap();
+        let plastic = SpringMass::new(
+            SpringMassParams {
+                restitution: 0.0,
+                ..p
+            },
+            10.0,
+        )
+        .unwrap();
         let (u, v, l) = plastic.eval(5.0);
         assert_eq!((u, v), (0.0, 0.0));
         assert!((l - 9.81).abs() < 1e-12);

@@ -18,10 +18,7 @@ impl IntervalMesh {
         if n_elements == 0 {
             return Err(Error::invalid("elements", n_elements, "must be >= 1"));
         }
-        Ok(Self {
-            length,
-            n_elements,
-        })
+        Ok(Self { length, n_elements })
     }
 
     /// Element size h = L / N.

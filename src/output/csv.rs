@@ -11,7 +11,14 @@ use crate::run::{Row, Summary};
 use std::path::Path;
 
 /// Columns of `timeseries.csv` (then the `_exact` columns when present).
-pub const TIMESERIES_COLUMNS: &[&str] = &["t", "u_contact", "v_contact", "sigma_contact", "energy", "gap"];
+pub const TIMESERIES_COLUMNS: &[&str] = &[
+    "t",
+    "u_contact",
+    "v_contact",
+    "sigma_contact",
+    "energy",
+    "gap",
+];
 /// Exact-solution columns of `timeseries.csv`.
 pub const EXACT_COLUMNS: &[&str] = &["u_contact_exact", "sigma_contact_exact", "energy_exact"];
 /// Columns of `summary.csv`.
@@ -74,7 +81,14 @@ pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
         path,
         &header,
         rows.iter().map(|r| {
-            let mut v = vec![r.t, r.u_contact, r.v_contact, r.sigma_contact, r.energy, r.gap];
+            let mut v = vec![
+                r.t,
+                r.u_contact,
+                r.v_contact,
+                r.sigma_contact,
+                r.energy,
+                r.gap,
+            ];
             if let Some((u, s, e)) = r.exact {
                 v.extend([u, s, e]);
             }

@@ -4,7 +4,8 @@ use crate::error::{Error, Result};
 use plotters::prelude::*;
 use std::path::Path;
 
-/// One curve of a time plot.
+/// One curve of a plot.
+#[derive(Debug, Clone)]
 pub struct Series {
     /// Legend label.
     pub label: String,
@@ -56,10 +57,14 @@ fn plot_err(path: &Path, e: impl std::fmt::Display) -> Error {
 /// Line plot of several series against time, 1000×600 px.
 pub fn time_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> Result<()> {
     let pts = || series.iter().flat_map(|s| s.points.iter().copied());
-    let (x0, x1) = pts().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (x, _)| (a.min(x), b.max(x)));
+    let (x0, x1) = pts().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (x, _)| {
+        (a.min(x), b.max(x))
+    });
     let (y0, y1) = pts()
         .filter(|p| p.1.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (_, y)| (a.min(y), b.max(y)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (_, y)| {
+            (a.min(y), b.max(y))
+        });
     if !(x0.is_finite() && y0.is_finite()) {
         return Err(plot_err(path, "nothing to plot"));
     }
@@ -94,6 +99,76 @@ pub fn time_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> 
     }
     chart
         .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 16))
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    root.present().map_err(|e| plot_err(path, e))
+}
+
+/// Log–log plot of error against h, one series per label, with a reference slope-1 line.
+pub fn loglog_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> Result<()> {
+    let pts: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .filter(|p| p.0 > 0.0 && p.1 > 0.0 && p.1.is_finite())
+        .collect();
+    if pts.is_empty() {
+        return Err(plot_err(path, "nothing to plot"));
+    }
+    let (x0, x1) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+        (a.min(p.0), b.max(p.0))
+    });
+    let (y0, y1) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+        (a.min(p.1), b.max(p.1))
+    });
+    let root = BitMapBackend::new(path, (1000, 650)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 24))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(
+            (x0 * 0.8..x1 * 1.25).log_scale(),
+            (y0 * 0.5..y1 * 2.0).log_scale(),
+        )
+        .map_err(|e| plot_err(path, e))?;
+    chart
+        .configure_mesh()
+        .x_desc("h")
+        .y_desc(y_label)
+        .label_style(("sans-serif", 16))
+        .draw()
+        .map_err(|e| plot_err(path, e))?;
+    let reference = vec![(x0, y0 * 0.7), (x1, y0 * 0.7 * x1 / x0)];
+    let mut all: Vec<Series> = vec![Series::dashed("slope 1", reference, BLACK)];
+    all.extend(series.iter().cloned());
+    for s in &all {
+        let style = ShapeStyle::from(&s.color).stroke_width(2);
+        let anno = if s.dashed {
+            chart.draw_series(DashedLineSeries::new(s.points.iter().copied(), 8, 6, style))
+        } else {
+            chart.draw_series(LineSeries::new(s.points.iter().copied(), style))
+        }
+        .map_err(|e| plot_err(path, e))?;
+        let c = s.color;
+        anno.label(s.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+        if !s.dashed {
+            chart
+                .draw_series(
+                    s.points
+                        .iter()
+                        .map(|&p| Circle::new(p, 4, s.color.filled())),
+                )
+                .map_err(|e| plot_err(path, e))?;
+        }
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font(("sans-serif", 16))

@@ -32,8 +32,9 @@ impl Space for MassRedistribution {
     fn inertia(&self, model: &MassModel) -> Result<Inertia> {
         Ok(Inertia::Sparse {
             m: model.assemble(|el, comp| {
-                let massless: Vec<bool> =
-                    (0..el.x.len()).map(|a| model.is_contact(el, comp, a)).collect();
+                let massless: Vec<bool> = (0..el.x.len())
+                    .map(|a| model.is_contact(el, comp, a))
+                    .collect();
                 if massless.iter().any(|&b| b) {
                     redistribute(&el.mass, &el.x, model.dim, &massless).0
                 } else {
@@ -92,7 +93,13 @@ pub fn redistribute(
         .max(f64::MIN_POSITIVE);
     let xs: Vec<[f64; 3]> = x
         .iter()
-        .map(|p| [(p[0] - x0[0]) / scale, (p[1] - x0[1]) / scale, (p[2] - x0[2]) / scale])
+        .map(|p| {
+            [
+                (p[0] - x0[0]) / scale,
+                (p[1] - x0[1]) / scale,
+                (p[2] - x0[2]) / scale,
+            ]
+        })
         .collect();
     let free: Vec<usize> = (0..n).filter(|&a| !massless[a]).collect();
     let vars: Vec<(usize, usize)> = free
@@ -101,17 +108,31 @@ pub fn redistribute(
         .flat_map(|(i, &a)| free[i..].iter().map(move |&b| (a, b)))
         .collect();
     let m0 = DVector::from_iterator(vars.len(), vars.iter().map(|&(a, b)| m[(a, b)]));
-    let weight = DVector::from_iterator(vars.len(), vars.iter().map(|&(a, b)| if a == b { 1.0 } else { 2.0 }));
+    let weight = DVector::from_iterator(
+        vars.len(),
+        vars.iter().map(|&(a, b)| if a == b { 1.0 } else { 2.0 }),
+    );
     let mut best = (DMatrix::zeros(n, n), Kept::Nothing);
     let mut rows: Vec<Vec<f64>> = Vec::new();
     let mut targets: Vec<f64> = Vec::new();
     let levels = [Kept::Total, Kept::FirstMoments, Kept::SecondMoments];
     for (group, kept) in moment_groups(dim).into_iter().zip(levels) {
         for f in &group {
-            rows.push(vars.iter().map(|&(a, b)| weight_of(a, b) * f(&xs[a], &xs[b])).collect());
-            targets.push((0..n).flat_map(|a| (0..n).map(move |b| (a, b))).map(|(a, b)| m[(a, b)] * f(&xs[a], &xs[b])).sum());
+            rows.push(
+                vars.iter()
+                    .map(|&(a, b)| weight_of(a, b) * f(&xs[a], &xs[b]))
+                    .collect(),
+            );
+            targets.push(
+                (0..n)
+                    .flat_map(|a| (0..n).map(move |b| (a, b)))
+                    .map(|(a, b)| m[(a, b)] * f(&xs[a], &xs[b]))
+                    .sum(),
+            );
         }
-        let Some(sol) = project(&rows, &targets, &m0, &weight) else { break };
+        let Some(sol) = project(&rows, &targets, &m0, &weight) else {
+            break;
+        };
         let mut mt = DMatrix::zeros(n, n);
         for (&(a, b), v) in vars.iter().zip(sol.iter()) {
             mt[(a, b)] = *v;
@@ -137,7 +158,12 @@ fn weight_of(a: usize, b: usize) -> f64 {
 
 /// `argmin Σ w_k (m_k − m0_k)²` subject to `G m = c`: `m = m0 + W⁻¹Gᵀ(G W⁻¹ Gᵀ)⁻¹(c − G m0)`.
 /// None when the constraints are dependent or more numerous than the unknowns.
-fn project(rows: &[Vec<f64>], c: &[f64], m0: &DVector<f64>, w: &DVector<f64>) -> Option<DVector<f64>> {
+fn project(
+    rows: &[Vec<f64>],
+    c: &[f64],
+    m0: &DVector<f64>,
+    w: &DVector<f64>,
+) -> Option<DVector<f64>> {
     let (k, nv) = (rows.len(), m0.len());
     if k > nv {
         return None;

@@ -60,7 +60,10 @@ impl MassModel {
             .iter()
             .flat_map(|el| {
                 let local = &local;
-                el.dofs.iter().enumerate().map(move |(c, d)| (d.clone(), local(el, c)))
+                el.dofs
+                    .iter()
+                    .enumerate()
+                    .map(move |(c, d)| (d.clone(), local(el, c)))
             })
             .collect();
         assemble(

@@ -46,9 +46,10 @@ pub fn mixed_matrices(model: &MassModel) -> Result<(SpMat, SpMat)> {
         *nh,
         model.n_dofs,
         pairs.clone().flat_map(|(el, mx)| {
-            el.dofs.iter().zip(&mx.vdofs).map(move |(d, v)| {
-                (v.iter().map(|&i| Some(i)).collect(), d.clone(), &mx.b)
-            })
+            el.dofs
+                .iter()
+                .zip(&mx.vdofs)
+                .map(move |(d, v)| (v.iter().map(|&i| Some(i)).collect(), d.clone(), &mx.b))
         }),
     )?;
     let c = assemble(

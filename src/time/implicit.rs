@@ -15,12 +15,18 @@ use nalgebra::DMatrix;
 /// Above this many entries `Z = A⁻¹ B_Nᵀ` is not stored; a second solve is done instead.
 pub const STORE_Z_LIMIT: usize = 20_000_000;
 
+/// Columns of `Z = A⁻¹ B_Nᵀ`: displacement part and inertial part, one vector per contact point.
+struct Coupling {
+    zu: Vec<Vec<f64>>,
+    zw: Vec<Vec<f64>>,
+}
+
 /// Constant step operator with its contact coupling.
 pub struct ContactStep {
     op: StepOperator,
     solver: Box<dyn Solver>,
-    /// Columns of `A⁻¹ B_Nᵀ` (displacement part, inertial part), when stored.
-    z: Option<(Vec<Vec<f64>>, Vec<Vec<f64>>)>,
+    /// `A⁻¹ B_Nᵀ`, when small enough to store.
+    z: Option<Coupling>,
     d: DMatrix<f64>,
     c: f64,
     q: Vec<f64>,
@@ -65,7 +71,7 @@ impl ContactStep {
         Ok(Self {
             op,
             solver,
-            z: store.then_some((zu, zw)),
+            z: store.then_some(Coupling { zu, zw }),
             d,
             c,
             q: vec![0.0; nc],
@@ -73,7 +79,8 @@ impl ContactStep {
         })
     }
 
-    /// Solves `A (U, w) = r − c B_Nᵀ λ` with the contact law; `lambda` is a warm start on entry.
+    /// Solves `A (U, w) = r − c B_Nᵀ λ` with the contact law at step `step`, time `time` (for
+    /// error messages); `lambda` is a warm start on entry.
     pub fn solve(
         &mut self,
         problem: &Problem,
@@ -81,8 +88,7 @@ impl ContactStep {
         u: &mut [f64],
         w: &mut [f64],
         lambda: &mut [f64],
-        step: usize,
-        time: f64,
+        (step, time): (usize, f64),
     ) -> Result<SolveInfo> {
         self.op.solve(r, u, w);
         problem.contact.gap(u, &mut self.q);
@@ -94,7 +100,7 @@ impl ContactStep {
             return Ok(info);
         }
         match &self.z {
-            Some((zu, zw)) => {
+            Some(Coupling { zu, zw }) => {
                 for (j, &l) in lambda.iter().enumerate() {
                     if l != 0.0 {
                         linalg::axpy(u, -self.c * l, &zu[j]);

@@ -61,8 +61,15 @@ impl Scheme for Newmark {
         linalg::mul_add(&mut r, &problem.k, &problem.u0, -1.0);
         let a = problem.inertia.initial_acceleration(&r)?;
         let nw = w.len();
-        if [&w, &v, &a].iter().any(|x| x.iter().any(|y| !y.is_finite())) {
-            return Err(Error::invalid("initial state", "NaN", "initial data must be finite"));
+        if [&w, &v, &a]
+            .iter()
+            .any(|x| x.iter().any(|y| !y.is_finite()))
+        {
+            return Err(Error::invalid(
+                "initial state",
+                "NaN",
+                "initial data must be finite",
+            ));
         }
         Ok(Box::new(NewmarkIntegrator {
             p: *self,
@@ -105,8 +112,13 @@ impl Integrator for NewmarkIntegrator<'_> {
         for i in 0..self.w.len() {
             self.w_pred[i] = self.w[i] + dt * self.v[i] + dt * dt * (0.5 - beta) * self.a[i];
         }
-        self.rhs.iter_mut().zip(&self.problem.f).for_each(|(r, f)| *r = c * f);
-        self.problem.inertia.apply_add(&mut self.rhs, &self.w_pred, 1.0);
+        self.rhs
+            .iter_mut()
+            .zip(&self.problem.f)
+            .for_each(|(r, f)| *r = c * f);
+        self.problem
+            .inertia
+            .apply_add(&mut self.rhs, &self.w_pred, 1.0);
         let t_new = (self.step + 1) as f64 * dt;
         let info = self.system.solve(
             self.problem,
@@ -114,8 +126,7 @@ impl Integrator for NewmarkIntegrator<'_> {
             &mut self.u,
             &mut self.w,
             &mut self.lambda,
-            self.step + 1,
-            t_new,
+            (self.step + 1, t_new),
         )?;
         for i in 0..self.w.len() {
             let a_new = (self.w[i] - self.w_pred[i]) / c;

@@ -33,7 +33,15 @@ pub fn bar(n: usize, degree: usize, spec: RunSpec) -> Bar1d {
 }
 
 /// Runs bar1d and returns the result.
-pub fn run_bar(space: &str, n: usize, degree: usize, beta: f64, gamma: f64, dt: f64, t_end: f64) -> RunResult {
+pub fn run_bar(
+    space: &str,
+    n: usize,
+    degree: usize,
+    beta: f64,
+    gamma: f64,
+    dt: f64,
+    t_end: f64,
+) -> RunResult {
     let case = bar(n, degree, run_spec(space, beta, gamma, dt, t_end));
     run(&case as &dyn Case).expect("run succeeds")
 }

@@ -1,0 +1,158 @@
+//! The binary end to end: outputs of `run`, and clear errors (exit code ≠ 0, no panic) on bad input.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn dyncontact(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_dyncontact"))
+        .args(args)
+        .output()
+        .expect("binary runs")
+}
+
+/// Writes `cases/bar1d.toml` with `from` replaced by `to` into `dir` and returns its path.
+fn edited_case(dir: &Path, from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string("cases/bar1d.toml").unwrap();
+    assert!(
+        text.contains(from),
+        "test setup: `{from}` not in the case file"
+    );
+    let path = dir.join("case.toml");
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+fn assert_clear_error(out: &Output, needle: &str) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "expected failure, got success");
+    assert!(!stderr.contains("panicked"), "panic: {stderr}");
+    assert!(
+        stderr.contains(needle),
+        "error should mention `{needle}`: {stderr}"
+    );
+}
+
+#[test]
+fn bad_case_files_give_errors_naming_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cases = [
+        ("density = 1.0", "density = -1.0", "material.density"),
+        ("dt = 0.0125", "dt = 0.0", "run.dt"),
+        ("dt = 0.0125", "dt = -0.1", "run.dt"),
+        ("young = 1.0", "young = nan", "material.young"),
+        (
+            "space = \"mass_redistribution\"",
+            "space = \"magic\"",
+            "unknown space `magic`",
+        ),
+        ("lift = 0.5", "lift = \"half\"", "malformed case file"),
+        ("elements = 40", "elemnts = 40", "malformed case file"),
+        ("beta = 0.5", "beta = 0.9", "beta"),
+    ];
+    for (from, to, needle) in cases {
+        let out = dyncontact(&[
+            "run",
+            &edited_case(d, from, to),
+            "--out",
+            d.join("o").to_str().unwrap(),
+        ]);
+        assert_clear_error(&out, needle);
+    }
+}
+
+#[test]
+fn bad_command_line_values_give_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("o");
+    let o = out_dir.to_str().unwrap();
+    assert_clear_error(
+        &dyncontact(&["run", "cases/bar1d.toml", "--dt", "-1", "--out", o]),
+        "run.dt",
+    );
+    assert_clear_error(
+        &dyncontact(&["run", "cases/bar1d.toml", "--space", "nope", "--out", o]),
+        "unknown space",
+    );
+    assert_clear_error(
+        &dyncontact(&["run", "cases/bar1d.toml", "--scheme", "rk4", "--out", o]),
+        "unknown scheme",
+    );
+    assert_clear_error(
+        &dyncontact(&["run", "cases/missing.toml", "--out", o]),
+        "missing.toml",
+    );
+    assert_clear_error(
+        &dyncontact(&[
+            "run",
+            "cases/bar1d.toml",
+            "--space",
+            "singular_dynamic",
+            "--degree",
+            "1",
+            "--out",
+            o,
+        ]),
+        "degree 2",
+    );
+}
+
+#[test]
+fn run_writes_the_documented_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("run");
+    let args = [
+        "run",
+        "cases/bar1d.toml",
+        "--elements",
+        "10",
+        "--dt",
+        "0.05",
+        "--t-end",
+        "3",
+        "--out",
+    ];
+    let mut a = args.to_vec();
+    a.push(o.to_str().unwrap());
+    let out = dyncontact(&a);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let ts = std::fs::read_to_string(o.join("timeseries.csv")).unwrap();
+    assert_eq!(
+        ts.lines().next().unwrap(),
+        "t,u_contact,v_contact,sigma_contact,energy,gap,u_contact_exact,sigma_contact_exact,energy_exact"
+    );
+    assert_eq!(ts.lines().count(), 1 + 61);
+    let summary = std::fs::read_to_string(o.join("summary.csv")).unwrap();
+    for col in [
+        "energy_drift",
+        "max_penetration",
+        "err_u_linf_l2",
+        "err_u_l2_h1",
+        "err_sigma_l2",
+        "err_energy",
+        "sigma_total_variation",
+    ] {
+        assert!(
+            summary.lines().next().unwrap().split(',').any(|c| c == col),
+            "missing column {col}"
+        );
+    }
+    for png in ["energy.png", "contact.png"] {
+        let bytes = std::fs::read(o.join(png)).unwrap();
+        assert!(
+            bytes.starts_with(b"\x89PNG") && bytes.len() > 10_000,
+            "{png} looks empty"
+        );
+    }
+    // Deterministic: a second run gives a byte-identical time series.
+    let out2 = dyncontact(&a);
+    assert!(out2.status.success());
+    assert_eq!(
+        std::fs::read_to_string(o.join("timeseries.csv")).unwrap(),
+        ts
+    );
+}
