@@ -85,26 +85,62 @@ pub fn time_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> 
         .label_style(("sans-serif", 16))
         .draw()
         .map_err(|e| plot_err(path, e))?;
+    draw_curves(
+        &mut chart,
+        series,
+        1,
+        false,
+        SeriesLabelPosition::UpperRight,
+    )
+    .map_err(|e| plot_err(path, e))?;
+    root.present().map_err(|e| plot_err(path, e))
+}
+
+type Chart<'a, X, Y> = ChartContext<'a, BitMapBackend<'a>, Cartesian2d<X, Y>>;
+type DrawResult = std::result::Result<
+    (),
+    DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>,
+>;
+
+/// Draws the curves (dashed ones with width 2, solid ones with `width` and optional point
+/// markers) and the legend at `legend`.
+fn draw_curves<'a, X, Y>(
+    chart: &mut Chart<'a, X, Y>,
+    series: &[Series],
+    width: u32,
+    markers: bool,
+    legend: SeriesLabelPosition,
+) -> DrawResult
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
     for s in series {
-        let style = ShapeStyle::from(&s.color).stroke_width(if s.dashed { 2 } else { 1 });
+        let style = ShapeStyle::from(&s.color).stroke_width(if s.dashed { 2 } else { width });
+        let points = s.points.iter().copied();
         let anno = if s.dashed {
-            chart.draw_series(DashedLineSeries::new(s.points.iter().copied(), 8, 6, style))
+            chart.draw_series(DashedLineSeries::new(points, 8, 6, style))?
         } else {
-            chart.draw_series(LineSeries::new(s.points.iter().copied(), style))
-        }
-        .map_err(|e| plot_err(path, e))?;
+            chart.draw_series(LineSeries::new(points, style))?
+        };
         let c = s.color;
         anno.label(s.label.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+        if markers && !s.dashed {
+            chart.draw_series(
+                s.points
+                    .iter()
+                    .map(|&p| Circle::new(p, 4, s.color.filled())),
+            )?;
+        }
     }
     chart
         .configure_series_labels()
+        .position(legend)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font(("sans-serif", 16))
         .draw()
-        .map_err(|e| plot_err(path, e))?;
-    root.present().map_err(|e| plot_err(path, e))
 }
 
 /// Log–log plot of error against h, one series per label, with a reference slope-1 line.
@@ -145,34 +181,7 @@ pub fn loglog_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -
     let reference = vec![(x0, y0 * 0.7), (x1, y0 * 0.7 * x1 / x0)];
     let mut all: Vec<Series> = vec![Series::dashed("slope 1", reference, BLACK)];
     all.extend(series.iter().cloned());
-    for s in &all {
-        let style = ShapeStyle::from(&s.color).stroke_width(2);
-        let anno = if s.dashed {
-            chart.draw_series(DashedLineSeries::new(s.points.iter().copied(), 8, 6, style))
-        } else {
-            chart.draw_series(LineSeries::new(s.points.iter().copied(), style))
-        }
-        .map_err(|e| plot_err(path, e))?;
-        let c = s.color;
-        anno.label(s.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
-        if !s.dashed {
-            chart
-                .draw_series(
-                    s.points
-                        .iter()
-                        .map(|&p| Circle::new(p, 4, s.color.filled())),
-                )
-                .map_err(|e| plot_err(path, e))?;
-        }
-    }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 16))
-        .draw()
+    draw_curves(&mut chart, &all, 2, true, SeriesLabelPosition::LowerRight)
         .map_err(|e| plot_err(path, e))?;
     root.present().map_err(|e| plot_err(path, e))
 }

@@ -48,11 +48,5 @@ pub fn run_bar(
 
 /// Least-squares slope of log(err) against log(h).
 pub fn observed_order(h: &[f64], err: &[f64]) -> f64 {
-    let x: Vec<f64> = h.iter().map(|v| v.ln()).collect();
-    let y: Vec<f64> = err.iter().map(|v| v.ln()).collect();
-    let n = x.len() as f64;
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
-    sxy / sxx
+    dyncontact::report::fit_order(h, err).0
 }
