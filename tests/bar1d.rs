@@ -72,6 +72,14 @@ fn singular_dynamic_conserves_energy_and_converges() {
     println!("SD σ_N total variation / exact: {tv:.3?}");
 }
 
+/// Metrics of `space` + Newmark(½, ½) on 40 P1 elements, T = 6, for dt = 1e-2, 1e-3, 1e-4.
+fn dt_sweep(space: &str) -> Vec<Metrics> {
+    [1e-2, 1e-3, 1e-4]
+        .iter()
+        .map(|&dt| run_bar(space, 40, 1, 0.5, 0.5, dt, 6.0).summary.metrics)
+        .collect()
+}
+
 /// Standard mass, P1, h = 1/40, T = 6: with Newmark(½, ½) the contact stress oscillates and gets
 /// worse as dt shrinks, and the energy error does not decrease (seed paper, figures 3–4; the
 /// peer's chattering multiplier in methods.md). Measured when written (dt = 1e-2, 1e-3, 1e-4):
@@ -79,14 +87,7 @@ fn singular_dynamic_conserves_energy_and_converges() {
 /// σ_N 44, 710, 7400 times the exact one (∝ 1/dt).
 #[test]
 fn standard_newmark_contact_stress_oscillates_and_energy_does_not_converge_in_dt() {
-    let m: Vec<Metrics> = [1e-2, 1e-3, 1e-4]
-        .iter()
-        .map(|&dt| {
-            run_bar("standard", 40, 1, 0.5, 0.5, dt, 6.0)
-                .summary
-                .metrics
-        })
-        .collect();
+    let m = dt_sweep("standard");
     let e: Vec<f64> = m.iter().map(|x| x.err_energy.unwrap()).collect();
     let s: Vec<f64> = m.iter().map(|x| x.err_sigma_l2.unwrap()).collect();
     println!("standard ½,½: energy error {e:.4?}, σ error {s:.4?}");
@@ -105,14 +106,7 @@ fn standard_newmark_contact_stress_oscillates_and_energy_does_not_converge_in_dt
     );
     // Mass redistribution on the same mesh and steps: stable energy, and an oscillation that stays
     // bounded as dt → 0 (measured TV/exact 1.6, 3.1, 3.2; drift 0.029, 0.025, 0.025).
-    let mr: Vec<Metrics> = [1e-2, 1e-3, 1e-4]
-        .iter()
-        .map(|&dt| {
-            run_bar("mass_redistribution", 40, 1, 0.5, 0.5, dt, 6.0)
-                .summary
-                .metrics
-        })
-        .collect();
+    let mr = dt_sweep("mass_redistribution");
     let mr_tv: Vec<f64> = mr.iter().map(|x| x.sigma_total_variation).collect();
     assert!(
         mr.iter().all(|x| x.energy_drift < 0.05),
