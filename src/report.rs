@@ -75,7 +75,10 @@ pub fn report(cases_dir: &Path, out: &Path, progress: &mut dyn FnMut(&str)) -> R
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let bar_path = cases_dir.join("bar1d.toml");
     let bar_text = std::fs::read_to_string(&bar_path).map_err(|e| Error::io(&bar_path, e))?;
-    let base = bar1d_from_text(&bar_text, &bar_path)?;
+    let base = Bar1d::from_spec(
+        cases::spec_from_str(&bar_text, &bar_path)?,
+        &Overrides::default(),
+    )?;
     let mut summaries = Vec::new();
     let mut orders = Vec::new();
     let mut conv_series = Vec::new();
@@ -201,14 +204,6 @@ pub fn report(cases_dir: &Path, out: &Path, progress: &mut dyn FnMut(&str)) -> R
 }
 
 const BLACK_RGB: plotters::style::RGBColor = plotters::style::RGBColor(0, 0, 0);
-
-fn bar1d_from_text(text: &str, path: &Path) -> Result<Bar1d> {
-    let spec = toml::from_str(text).map_err(|e: toml::de::Error| Error::CaseSyntax {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
-    Bar1d::from_spec(spec, &Overrides::default())
-}
 
 fn write_index(out: &Path, orders: &[Vec<String>]) -> Result<()> {
     let mut md = String::from("# dyncontact report\n\n");

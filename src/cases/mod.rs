@@ -13,6 +13,7 @@ use crate::exact::ExactContact;
 use crate::problem::Problem;
 use crate::space::Space;
 use crate::time::SchemeParams;
+use serde::de::DeserializeOwned;
 use serde::Deserialize;
 use std::path::Path;
 
@@ -157,28 +158,30 @@ pub fn load(path: &Path, overrides: &Overrides) -> Result<Box<dyn Case>> {
     parse(&text, path, overrides)
 }
 
-/// Parses case-file text (`path` is only used in messages).
-pub fn parse(text: &str, path: &Path, overrides: &Overrides) -> Result<Box<dyn Case>> {
-    let syntax = |e: toml::de::Error| Error::CaseSyntax {
+/// Deserialises case-file text into the spec of one case kind (`path` is only used in messages).
+pub fn spec_from_str<T: DeserializeOwned>(text: &str, path: &Path) -> Result<T> {
+    toml::from_str(text).map_err(|e: toml::de::Error| Error::CaseSyntax {
         path: path.to_path_buf(),
         message: e.to_string(),
-    };
-    let header: Header = toml::from_str::<toml::Table>(text)
-        .map_err(syntax)
-        .and_then(|t| {
-            t.try_into()
-                .map_err(|e: toml::de::Error| Error::CaseSyntax {
-                    path: path.to_path_buf(),
-                    message: format!("missing or invalid `case` field: {e}"),
-                })
+    })
+}
+
+/// Parses case-file text (`path` is only used in messages).
+pub fn parse(text: &str, path: &Path, overrides: &Overrides) -> Result<Box<dyn Case>> {
+    let table: toml::Table = spec_from_str(text, path)?;
+    let header: Header = table
+        .try_into()
+        .map_err(|e: toml::de::Error| Error::CaseSyntax {
+            path: path.to_path_buf(),
+            message: format!("missing or invalid `case` field: {e}"),
         })?;
     match header.case.as_str() {
         "bar1d" => Ok(Box::new(bar1d::Bar1d::from_spec(
-            toml::from_str(text).map_err(syntax)?,
+            spec_from_str(text, path)?,
             overrides,
         )?)),
         "spring_mass" => Ok(Box::new(spring_mass::SpringMassCase::from_spec(
-            toml::from_str(text).map_err(syntax)?,
+            spec_from_str(text, path)?,
             overrides,
         )?)),
         other => Err(Error::UnknownName {
