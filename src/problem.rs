@@ -220,6 +220,15 @@ impl Contact {
         out.copy_from_slice(&self.g0);
         linalg::mul_add(out, &self.b_n, u, -1.0);
     }
+
+    /// Gap `g_i = g₀_i − (B_N U)_i` of contact point `i` alone (no allocation).
+    pub fn gap_at(&self, u: &[f64], i: usize) -> f64 {
+        self.g0[i]
+            - linalg::triplets(&self.b_n)
+                .filter(|&(r, _, _)| r == i)
+                .map(|(_, j, v)| v * u[j])
+                .sum::<f64>()
+    }
 }
 
 /// Where the time series are sampled: contact point `contact`, its displacement dof `u_dof`

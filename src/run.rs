@@ -121,15 +121,13 @@ fn probe_row(
     exact: Option<&dyn crate::exact::ExactContact>,
 ) -> Row {
     let p = problem.probe;
-    let mut gap = vec![0.0; problem.contact.len()];
-    problem.contact.gap(s.u, &mut gap);
     Row {
         t: s.t,
         u_contact: s.u[p.u_dof],
         v_contact: s.v[p.w_dof],
         sigma_contact: problem.contact_stress(s.lambda, p.contact),
         energy: problem.energy(s.u, s.v),
-        gap: gap[p.contact],
+        gap: problem.contact.gap_at(s.u, p.contact),
         exact: exact.map(|e| {
             let c = e.contact(s.t);
             (c.u, c.sigma, e.energy(s.t))
