@@ -1,6 +1,7 @@
 //! PNG plots (plotters, bitmap backend; text through the system's fontconfig fonts).
 
 use crate::error::{Error, Result};
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -69,31 +70,58 @@ pub fn time_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> 
         return Err(plot_err(path, "nothing to plot"));
     }
     let pad = ((y1 - y0) * 0.08).max(1e-12 * y1.abs().max(1.0));
-    let root = BitMapBackend::new(path, (1000, 600)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    let frame = Frame {
+        title,
+        x_label: "t",
+        y_label,
+        height: 600,
+        width: 1,
+        markers: false,
+        legend: SeriesLabelPosition::UpperRight,
+    };
+    render(path, &frame, x0..x1, (y0 - pad)..(y1 + pad), series)
+}
+
+/// Layout of a plot: 1000 px wide, `height` px high, sans-serif text.
+struct Frame<'a> {
+    title: &'a str,
+    x_label: &'a str,
+    y_label: &'a str,
+    height: u32,
+    /// Stroke width of solid curves (dashed ones are 2).
+    width: u32,
+    /// Draw a marker at every point of solid curves.
+    markers: bool,
+    legend: SeriesLabelPosition,
+}
+
+/// Draws `series` on axes `x` × `y` (linear or log ranges) and writes the PNG.
+fn render<X, Y>(path: &Path, frame: &Frame<'_>, x: X, y: Y, series: &[Series]) -> Result<()>
+where
+    X: AsRangedCoord<Value = f64>,
+    Y: AsRangedCoord<Value = f64>,
+    X::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let err = |e: &dyn std::fmt::Display| plot_err(path, e);
+    let root = BitMapBackend::new(path, (1000, frame.height)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(&e))?;
     let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 24))
+        .caption(frame.title, ("sans-serif", 24))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(80)
-        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
-        .map_err(|e| plot_err(path, e))?;
+        .build_cartesian_2d(x, y)
+        .map_err(|e| err(&e))?;
     chart
         .configure_mesh()
-        .x_desc("t")
-        .y_desc(y_label)
+        .x_desc(frame.x_label)
+        .y_desc(frame.y_label)
         .label_style(("sans-serif", 16))
         .draw()
-        .map_err(|e| plot_err(path, e))?;
-    draw_curves(
-        &mut chart,
-        series,
-        1,
-        false,
-        SeriesLabelPosition::UpperRight,
-    )
-    .map_err(|e| plot_err(path, e))?;
-    root.present().map_err(|e| plot_err(path, e))
+        .map_err(|e| err(&e))?;
+    draw_curves(&mut chart, series, frame).map_err(|e| err(&e))?;
+    root.present().map_err(|e| err(&e))
 }
 
 type Chart<'a, X, Y> = ChartContext<'a, BitMapBackend<'a>, Cartesian2d<X, Y>>;
@@ -102,21 +130,18 @@ type DrawResult = std::result::Result<
     DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>,
 >;
 
-/// Draws the curves (dashed ones with width 2, solid ones with `width` and optional point
-/// markers) and the legend at `legend`.
+/// Draws the curves and the legend with the widths, markers and legend position of `frame`.
 fn draw_curves<'a, X, Y>(
     chart: &mut Chart<'a, X, Y>,
     series: &[Series],
-    width: u32,
-    markers: bool,
-    legend: SeriesLabelPosition,
+    frame: &Frame<'_>,
 ) -> DrawResult
 where
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
 {
     for s in series {
-        let style = ShapeStyle::from(&s.color).stroke_width(if s.dashed { 2 } else { width });
+        let style = ShapeStyle::from(&s.color).stroke_width(if s.dashed { 2 } else { frame.width });
         let points = s.points.iter().copied();
         let anno = if s.dashed {
             chart.draw_series(DashedLineSeries::new(points, 8, 6, style))?
@@ -126,7 +151,7 @@ where
         let c = s.color;
         anno.label(s.label.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
-        if markers && !s.dashed {
+        if frame.markers && !s.dashed {
             chart.draw_series(
                 s.points
                     .iter()
@@ -136,7 +161,7 @@ where
     }
     chart
         .configure_series_labels()
-        .position(legend)
+        .position(frame.legend.clone())
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font(("sans-serif", 16))
@@ -159,29 +184,23 @@ pub fn loglog_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -
     let (y0, y1) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
         (a.min(p.1), b.max(p.1))
     });
-    let root = BitMapBackend::new(path, (1000, 650)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 24))
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(80)
-        .build_cartesian_2d(
-            (x0 * 0.8..x1 * 1.25).log_scale(),
-            (y0 * 0.5..y1 * 2.0).log_scale(),
-        )
-        .map_err(|e| plot_err(path, e))?;
-    chart
-        .configure_mesh()
-        .x_desc("h")
-        .y_desc(y_label)
-        .label_style(("sans-serif", 16))
-        .draw()
-        .map_err(|e| plot_err(path, e))?;
     let reference = vec![(x0, y0 * 0.7), (x1, y0 * 0.7 * x1 / x0)];
     let mut all: Vec<Series> = vec![Series::dashed("slope 1", reference, BLACK)];
     all.extend(series.iter().cloned());
-    draw_curves(&mut chart, &all, 2, true, SeriesLabelPosition::LowerRight)
-        .map_err(|e| plot_err(path, e))?;
-    root.present().map_err(|e| plot_err(path, e))
+    let frame = Frame {
+        title,
+        x_label: "h",
+        y_label,
+        height: 650,
+        width: 2,
+        markers: true,
+        legend: SeriesLabelPosition::LowerRight,
+    };
+    render(
+        path,
+        &frame,
+        (x0 * 0.8..x1 * 1.25).log_scale(),
+        (y0 * 0.5..y1 * 2.0).log_scale(),
+        &all,
+    )
 }
