@@ -1,5 +1,6 @@
 //! Time stepping cost on bar1d: factor once, then per step one predictor solve and a 1×1 LCP.
 //! `full_run/<space>`: 10³ elements, 10³ Newmark(½,½) steps (prepare included, no output).
+//! `schemes/<scheme>`: the same run (mass redistribution, 10³ elements, 10³ steps) per scheme.
 //! `speed_target/mass_redistribution_1e4x1e4`: the target, 10⁴ P1 elements × 10⁴ steps.
 
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -16,31 +17,30 @@ fn bar(elements: usize, degree: usize) -> Bar1d {
         lift: 0.5,
     };
     let run = RunSpec {
-        space: "standard".into(),
-        scheme: "newmark".into(),
         beta: 0.5,
         gamma: 0.5,
-        dt: 0.5 / elements as f64,
-        t_end: 1.0,
-        contact_solver: "active_set".into(),
+        ..RunSpec::new("standard", "newmark", 0.5 / elements as f64, 1.0)
     };
     Bar1d::new(exact, elements, degree, true, run).expect("valid bar")
 }
 
-/// Prepare and take `steps` steps; returns the final contact displacement.
+/// Prepare and take `steps` steps of Newmark(½, ½); returns the final contact displacement.
 fn simulate(case: &Bar1d, space: &str, steps: usize) -> f64 {
+    simulate_with(case, space, "newmark", steps)
+}
+
+/// Prepare and take `steps` steps of `scheme` (Newmark β = γ = ½, other parameters default).
+fn simulate_with(case: &Bar1d, space: &str, scheme: &str, steps: usize) -> f64 {
     let problem = case
         .problem(dyncontact::space::by_name(space).unwrap().as_ref())
         .unwrap();
-    let scheme = dyncontact::time::by_name(
-        "newmark",
-        dyncontact::time::SchemeParams {
-            beta: 0.5,
-            gamma: 0.5,
-        },
-    )
-    .unwrap();
-    let solver = dyncontact::contact::by_name("active_set", 1).unwrap();
+    let params = dyncontact::time::SchemeParams {
+        beta: 0.5,
+        gamma: 0.5,
+        ..Default::default()
+    };
+    let scheme = dyncontact::time::by_name(scheme, params).unwrap();
+    let solver = dyncontact::contact::by_name("active_set", 1, 1e-3).unwrap();
     let mut it = scheme.prepare(&problem, case.run().dt, solver).unwrap();
     for _ in 0..steps {
         it.step().unwrap();
@@ -61,6 +61,30 @@ fn full_run(c: &mut Criterion) {
     g.finish();
 }
 
+fn schemes(c: &mut Criterion) {
+    let mut g = c.benchmark_group("schemes");
+    g.sample_size(10);
+    // dt = h/4 keeps central difference below its CFL limit h/√3.
+    let mut case = bar(1000, 1);
+    case = Bar1d::new(
+        case.exact,
+        1000,
+        1,
+        true,
+        RunSpec {
+            dt: 0.25 / 1000.0,
+            ..case.run().clone()
+        },
+    )
+    .expect("valid bar");
+    for scheme in dyncontact::time::SCHEMES {
+        g.bench_function(*scheme, |b| {
+            b.iter(|| black_box(simulate_with(&case, "mass_redistribution", scheme, 1000)))
+        });
+    }
+    g.finish();
+}
+
 fn speed_target(c: &mut Criterion) {
     let mut g = c.benchmark_group("speed_target");
     g.sample_size(10);
@@ -71,5 +95,5 @@ fn speed_target(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, full_run, speed_target);
+criterion_group!(benches, full_run, schemes, speed_target);
 criterion_main!(benches);

@@ -11,6 +11,7 @@ pub mod contact;
 pub mod error;
 pub mod exact;
 pub mod fem;
+pub mod harness;
 pub mod linalg;
 pub mod mesh;
 pub mod metrics;

@@ -123,7 +123,21 @@ pub fn dot(x: &[f64], y: &[f64]) -> f64 {
     x.iter().zip(y).map(|(a, b)| a * b).sum()
 }
 
-/// `y += alpha · x`.
+/// `out = a x + b y`.
+pub fn combine(out: &mut [f64], (a, x): (f64, &[f64]), (b, y): (f64, &[f64])) {
+    for ((o, xi), yi) in out.iter_mut().zip(x).zip(y) {
+        *o = a * xi + b * yi;
+    }
+}
+
+/// `y = a y + b x`.
+pub fn scale_add(y: &mut [f64], a: f64, b: f64, x: &[f64]) {
+    for (yi, xi) in y.iter_mut().zip(x) {
+        *yi = a * *yi + b * xi;
+    }
+}
+
+/// `y += alpha x`.
 pub fn axpy(y: &mut [f64], alpha: f64, x: &[f64]) {
     for (yi, xi) in y.iter_mut().zip(x) {
         *yi += alpha * xi;

@@ -2,8 +2,8 @@
 
 use clap::{Parser, Subcommand};
 use dyncontact::cases::{self, Overrides};
-use dyncontact::{output, run, Result};
-use std::path::PathBuf;
+use dyncontact::{harness, output, run, Result};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Verification and benchmark suite for elastodynamics with unilateral contact.
@@ -14,6 +14,8 @@ struct Cli {
     command: Command,
 }
 
+// Parsed once per process: the size of the `run` variant does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 enum Command {
     /// List the case files in a directory and the known spaces, schemes and contact solvers.
@@ -31,6 +33,21 @@ enum Command {
         #[arg(long, default_value = "cases")]
         cases: PathBuf,
     },
+    /// Run the [[sweep]] tables of case files in parallel; write records.csv and orders.csv.
+    Sweep {
+        /// Case files (TOML) with [[sweep]] tables.
+        #[arg(required = true)]
+        cases: Vec<PathBuf>,
+        /// Output directory.
+        #[arg(long, default_value = "reports/sweep")]
+        out: PathBuf,
+        /// Only the first levels of each sweep (`quick_levels`).
+        #[arg(long)]
+        quick: bool,
+        /// Run only shard i of n (1-based), e.g. `--shard 2/8`; writes records-i-of-n.csv.
+        #[arg(long, value_parser = parse_shard)]
+        shard: Option<(usize, usize)>,
+    },
     /// Run one case and write timeseries.csv, summary.csv, energy.png and contact.png.
     Run {
         /// Case file (TOML).
@@ -39,7 +56,8 @@ enum Command {
         /// singular_dynamic).
         #[arg(long)]
         space: Option<String>,
-        /// Time scheme (newmark).
+        /// Time scheme (newmark, hht, backward_euler, paoli_schatzman, moreau_jean,
+        /// central_difference).
         #[arg(long)]
         scheme: Option<String>,
         /// Newmark β.
@@ -48,6 +66,21 @@ enum Command {
         /// Newmark γ.
         #[arg(long, allow_negative_numbers = true)]
         gamma: Option<f64>,
+        /// HHT α ∈ [−1/3, 0].
+        #[arg(long, allow_negative_numbers = true)]
+        alpha: Option<f64>,
+        /// Restitution coefficient e ∈ [0, 1] (paoli_schatzman, moreau_jean).
+        #[arg(long, allow_negative_numbers = true)]
+        restitution: Option<f64>,
+        /// Moreau–Jean θ ∈ [1/2, 1].
+        #[arg(long, allow_negative_numbers = true)]
+        theta: Option<f64>,
+        /// Contact solver (active_set, clarabel, penalty).
+        #[arg(long = "contact-solver")]
+        contact_solver: Option<String>,
+        /// Relative compliance of the penalty contact solver.
+        #[arg(long, allow_negative_numbers = true)]
+        penalty: Option<f64>,
         /// Polynomial degree of the displacement (1 or 2).
         #[arg(long)]
         degree: Option<usize>,
@@ -94,9 +127,52 @@ fn list(dir: &PathBuf) -> Result<()> {
     Ok(())
 }
 
+fn parse_shard(s: &str) -> std::result::Result<(usize, usize), String> {
+    let (i, n) = s.split_once('/').ok_or("expected i/n, e.g. 2/8")?;
+    let parse = |x: &str| x.trim().parse::<usize>().map_err(|e| format!("{x:?}: {e}"));
+    Ok((parse(i)?, parse(n)?))
+}
+
+fn sweep(cases: &[PathBuf], out: &Path, quick: bool, shard: Option<(usize, usize)>) -> Result<()> {
+    let mut jobs = Vec::new();
+    for c in cases {
+        jobs.extend(harness::jobs(c, quick)?);
+    }
+    if let Some(s) = shard {
+        jobs = harness::shard(jobs, s)?;
+    }
+    std::fs::create_dir_all(out).map_err(|e| dyncontact::Error::io(out, e))?;
+    eprintln!("running {} runs", jobs.len());
+    let records = harness::run_jobs(&jobs, true);
+    let name = shard.map_or("records.csv".to_string(), |(i, n)| {
+        format!("records-{i}-of-{n}.csv")
+    });
+    harness::write_records(&out.join(&name), &records)?;
+    let failed = records
+        .iter()
+        .filter(|r| r.status != harness::Status::Ok)
+        .count();
+    println!(
+        "wrote {}/{name} ({} runs, {failed} not ok)",
+        out.display(),
+        records.len()
+    );
+    if shard.is_none() {
+        harness::write_orders(&out.join("orders.csv"), &harness::orders(&records))?;
+        println!("wrote {}/orders.csv", out.display());
+    }
+    Ok(())
+}
+
 fn main_result(cli: Cli) -> Result<()> {
     match cli.command {
         Command::List { dir } => list(&dir),
+        Command::Sweep {
+            cases,
+            out,
+            quick,
+            shard,
+        } => sweep(&cases, &out, quick, shard),
         Command::Report { out, cases } => {
             dyncontact::report::report(&cases, &out, &mut |msg| eprintln!("running {msg}"))?;
             println!("wrote {}/index.md", out.display());
@@ -108,6 +184,11 @@ fn main_result(cli: Cli) -> Result<()> {
             scheme,
             beta,
             gamma,
+            alpha,
+            restitution,
+            theta,
+            contact_solver,
+            penalty,
             degree,
             elements,
             dt,
@@ -119,6 +200,11 @@ fn main_result(cli: Cli) -> Result<()> {
                 scheme,
                 beta,
                 gamma,
+                alpha,
+                restitution,
+                theta,
+                contact_solver,
+                penalty,
                 degree,
                 elements,
                 dt,

@@ -32,6 +32,19 @@ pub struct Metrics {
     pub impact_time_err: Option<f64>,
 }
 
+impl Metrics {
+    /// Metrics of a run that did not finish: NaN or absent everywhere.
+    pub fn unavailable() -> Self {
+        Self {
+            energy_drift: f64::NAN,
+            energy_ratio: f64::NAN,
+            max_penetration: f64::NAN,
+            sigma_total_variation: f64::NAN,
+            ..Self::default()
+        }
+    }
+}
+
 fn total_variation(x: impl Iterator<Item = f64>) -> f64 {
     let mut prev: Option<f64> = None;
     let mut tv = 0.0;

@@ -112,17 +112,16 @@ impl Inertia {
         }
     }
 
-    /// Initial inertial acceleration `a₀` from `M A₀ = r` (r = F − K U₀ at rest contact force 0).
-    /// Sparse: solved on the dofs with mass; massless dofs get 0 (their equation is quasi-static).
-    /// Mixed: `a₀ = C⁻¹ B Â` with `M_V Â = r` (M_V the consistent V_h mass): the H_h projection of
-    /// the Galerkin acceleration.
-    pub fn initial_acceleration(&self, r: &[f64]) -> Result<Vec<f64>> {
+    /// Galerkin acceleration `A` on the displacement dofs from `M A = r` (r = F − K U₀ at zero
+    /// contact force). Sparse: solved on the dofs with mass, massless dofs get 0 (their equation
+    /// is quasi-static). Mixed: `M_V A = r` with the consistent V_h mass M_V.
+    pub fn acceleration(&self, r: &[f64]) -> Result<Vec<f64>> {
         match self {
             Inertia::Sparse { m } => solve_on_massive_dofs(m, r),
             Inertia::Mixed { consistent, .. } => {
                 let mut a = r.to_vec();
                 Factor::cholesky(consistent, "consistent mass")?.solve_in_place(&mut a);
-                self.project(&a)
+                Ok(a)
             }
         }
     }

@@ -49,13 +49,14 @@ pub fn fit_order(x: &[f64], y: &[f64]) -> (f64, f64) {
 fn bar_run(base: &Bar1d, space: &str, (beta, gamma): (f64, f64), n: usize) -> Result<RunResult> {
     let degree = if space == "singular_dynamic" { 2 } else { 1 };
     let spec = RunSpec {
-        space: space.into(),
-        scheme: "newmark".into(),
         beta,
         gamma,
-        dt: base.exact.length / (2.0 * n as f64),
-        t_end: 12.0 * base.exact.length / base.exact.wave_speed(),
-        contact_solver: "active_set".into(),
+        ..RunSpec::new(
+            space,
+            "newmark",
+            base.exact.length / (2.0 * n as f64),
+            12.0 * base.exact.length / base.exact.wave_speed(),
+        )
     };
     run(&Bar1d::new(base.exact, n, degree, true, spec)? as &dyn Case)
 }

@@ -68,7 +68,8 @@ pub fn run(case: &dyn Case) -> Result<RunResult> {
     let space = crate::space::by_name(&spec.space)?;
     let scheme = crate::time::by_name(&spec.scheme, spec.scheme_params())?;
     let problem = case.problem(space.as_ref())?;
-    let solver = crate::contact::by_name(&spec.contact_solver, problem.contact.len())?;
+    let solver =
+        crate::contact::by_name(&spec.contact_solver, problem.contact.len(), spec.penalty)?;
     let field = case.field_error();
     let exact = case.exact();
     let start = Instant::now();
@@ -126,7 +127,7 @@ fn probe_row(
         u_contact: s.u[p.u_dof],
         v_contact: s.v[p.w_dof],
         sigma_contact: problem.contact_stress(s.lambda, p.contact),
-        energy: problem.energy(s.u, s.v),
+        energy: problem.energy(s.energy_u, s.v),
         gap: problem.contact.gap_at(s.u, p.contact),
         exact: exact.map(|e| {
             let c = e.contact(s.t);

@@ -95,6 +95,79 @@ fn bad_command_line_values_give_clear_errors() {
         ]),
         "degree 2",
     );
+    let scheme_cases: [(&[&str], &str); 6] = [
+        (&["--scheme", "hht", "--alpha", "0.5"], "alpha"),
+        (
+            &["--scheme", "paoli_schatzman", "--restitution", "1.5"],
+            "restitution",
+        ),
+        (&["--scheme", "moreau_jean", "--theta", "0.2"], "theta"),
+        (&["--contact-solver", "simplex"], "unknown contact solver"),
+        (
+            &["--contact-solver", "penalty", "--penalty", "0"],
+            "run.penalty",
+        ),
+        (
+            &["--scheme", "central_difference", "--dt", "0.1"],
+            "unstable time step",
+        ),
+    ];
+    for (args, needle) in scheme_cases {
+        let mut a = vec!["run", "cases/bar1d.toml", "--out", o];
+        a.extend_from_slice(args);
+        assert_clear_error(&dyncontact(&a), needle);
+    }
+    assert_clear_error(
+        &dyncontact(&["sweep", "cases/bar1d.toml", "--shard", "3/2", "--out", o]),
+        "--shard",
+    );
+}
+
+/// `sweep --quick` writes one record per run and an orders table covering every space × scheme
+/// of the case's `[[sweep]]` table; shards partition the runs.
+#[test]
+fn sweep_writes_records_and_orders_for_every_combination() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().to_str().unwrap();
+    let out = dyncontact(&["sweep", "cases/spring_mass.toml", "--quick", "--out", o]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let records = std::fs::read_to_string(dir.path().join("records.csv")).unwrap();
+    let orders = std::fs::read_to_string(dir.path().join("orders.csv")).unwrap();
+    // 7 schemes × 3 quick levels.
+    assert_eq!(records.lines().count(), 1 + 7 * 3);
+    for scheme in dyncontact::time::SCHEMES {
+        assert!(
+            orders
+                .lines()
+                .any(|l| l.contains(&format!(",{scheme},")) && l.contains("impact_time_err")),
+            "no order for {scheme}"
+        );
+    }
+    let mut sharded = 0;
+    for i in 1..=2 {
+        let shard = format!("{i}/2");
+        let out = dyncontact(&[
+            "sweep",
+            "cases/spring_mass.toml",
+            "--quick",
+            "--shard",
+            &shard,
+            "--out",
+            o,
+        ]);
+        assert!(out.status.success());
+        let name = format!("records-{i}-of-2.csv");
+        sharded += std::fs::read_to_string(dir.path().join(name))
+            .unwrap()
+            .lines()
+            .count()
+            - 1;
+    }
+    assert_eq!(sharded, 7 * 3);
 }
 
 #[test]

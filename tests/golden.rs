@@ -1,19 +1,17 @@
-//! Golden snapshots (insta, stored in `golden/`) of the summary metrics of bar1d × every space ×
-//! Newmark {(¼, ½), (½, ½)} at a coarse resolution (10 elements, dt = h/2, T = 12), rounded to 6
-//! significant digits. Review an intended change with `cargo insta review`, or accept all with
+//! Golden snapshots (insta, stored in `golden/`): the summary metrics of every case × space ×
+//! scheme declared in the `[[sweep]]` tables of `cases/*.toml`, at the coarsest level of each
+//! sweep, rounded to 6 significant digits (runs that fail are snapshotted with their status and
+//! reason). Review an intended change with `cargo insta review`, or accept all with
 //! `INSTA_UPDATE=always cargo test --release --test golden`.
 
-mod common;
-
-use common::run_bar;
+use dyncontact::harness::{self, RunRecord};
 use dyncontact::output::sig6;
-use dyncontact::space::SPACES;
 
 fn opt(x: Option<f64>) -> String {
     x.map_or_else(|| "-".into(), sig6)
 }
 
-/// Penetration is round-off (exact complementarity): only its order is platform independent.
+/// Penetration of an exact contact solve is round-off: only its order is platform independent.
 fn penetration(p: f64) -> String {
     if p < 1e-12 {
         "< 1e-12".into()
@@ -22,42 +20,65 @@ fn penetration(p: f64) -> String {
     }
 }
 
+fn snapshot_text(r: &RunRecord) -> String {
+    let (s, m) = (&r.summary, &r.summary.metrics);
+    let mut lines = vec![
+        format!(
+            "case: {}  space: {}  scheme: {} ({})",
+            s.case, s.space, s.scheme, s.parameters
+        ),
+        format!("status: {}  {}", r.status.as_str(), r.reason)
+            .trim_end()
+            .to_string(),
+        format!(
+            "h: {}  dt: {}  dofs: {}  steps: {}",
+            sig6(s.h),
+            sig6(s.dt),
+            s.dofs,
+            s.steps
+        ),
+    ];
+    if r.status != harness::Status::Unsupported && r.status != harness::Status::Failed {
+        lines.extend([
+            format!("energy_drift: {}", sig6(m.energy_drift)),
+            format!("energy_ratio: {}", sig6(m.energy_ratio)),
+            format!("max_penetration: {}", penetration(m.max_penetration)),
+            format!("err_u_linf_l2: {}", opt(m.err_u_linf_l2)),
+            format!("err_u_l2_h1: {}", opt(m.err_u_l2_h1)),
+            format!("err_sigma_l2: {}", opt(m.err_sigma_l2)),
+            format!("err_energy: {}", opt(m.err_energy)),
+            format!("err_u_contact: {}", opt(m.err_u_contact)),
+            format!("sigma_total_variation: {}", sig6(m.sigma_total_variation)),
+            format!("restitution_eff: {}", opt(m.restitution_eff)),
+            format!("impact_time_err: {}", opt(m.impact_time_err)),
+        ]);
+    }
+    lines.join("\n")
+}
+
 #[test]
-fn bar1d_summary_metrics_are_unchanged() {
-    for space in SPACES {
-        let degree = if *space == "singular_dynamic" { 2 } else { 1 };
-        for (beta, gamma) in [(0.25, 0.5), (0.5, 0.5)] {
-            let s = run_bar(space, 10, degree, beta, gamma, 0.05, 12.0).summary;
-            let m = s.metrics;
-            let text = [
-                format!(
-                    "case: {}  space: {}  scheme: {} ({})",
-                    s.case, s.space, s.scheme, s.parameters
-                ),
-                format!(
-                    "h: {}  dt: {}  dofs: {}  steps: {}",
-                    sig6(s.h),
-                    sig6(s.dt),
-                    s.dofs,
-                    s.steps
-                ),
-                format!("energy_drift: {}", sig6(m.energy_drift)),
-                format!("energy_ratio: {}", sig6(m.energy_ratio)),
-                format!("max_penetration: {}", penetration(m.max_penetration)),
-                format!("err_u_linf_l2: {}", opt(m.err_u_linf_l2)),
-                format!("err_u_l2_h1: {}", opt(m.err_u_l2_h1)),
-                format!("err_sigma_l2: {}", opt(m.err_sigma_l2)),
-                format!("err_energy: {}", opt(m.err_energy)),
-                format!("err_u_contact: {}", opt(m.err_u_contact)),
-                format!("sigma_total_variation: {}", sig6(m.sigma_total_variation)),
-                format!("restitution_eff: {}", opt(m.restitution_eff)),
-                format!("impact_time_err: {}", opt(m.impact_time_err)),
-            ]
-            .join("\n");
-            let name = format!("bar1d__{space}__newmark_beta{beta}_gamma{gamma}");
+fn summary_metrics_of_every_combination_are_unchanged() {
+    let mut count = 0;
+    for case in ["cases/bar1d.toml", "cases/spring_mass.toml"] {
+        let jobs: Vec<_> = harness::jobs(std::path::Path::new(case), true)
+            .unwrap()
+            .into_iter()
+            .filter(|j| j.level == 0)
+            .collect();
+        for record in harness::run_jobs(&jobs, false) {
+            let s = &record.summary;
+            let params = s.parameters.replace(['=', ';'], "_");
+            let name = format!(
+                "{}__{}__{}__{}_{params}",
+                s.case, record.sweep, s.space, s.scheme
+            )
+            .trim_end_matches('_')
+            .to_string();
             insta::with_settings!({snapshot_path => "../golden", prepend_module_to_snapshot => false}, {
-                insta::assert_snapshot!(name, text);
+                insta::assert_snapshot!(name, snapshot_text(&record));
             });
+            count += 1;
         }
     }
+    assert_eq!(count, 5 * 8 + 7, "one snapshot per case × space × scheme");
 }

@@ -65,6 +65,9 @@ pub struct Bar1dSpec {
     pub mesh: MeshSpec,
     /// Run defaults.
     pub run: RunSpec,
+    /// Sweeps run by `dyncontact sweep` and `report`.
+    #[serde(default)]
+    pub sweep: Vec<super::sweep::SweepSpec>,
 }
 
 /// A validated bar case.
@@ -75,6 +78,7 @@ pub struct Bar1d {
     /// Displacement space (clamped at x = L unless `clamped` is false).
     pub space: Lagrange1d,
     run: RunSpec,
+    sweeps: Vec<super::sweep::SweepSpec>,
 }
 
 impl Bar1d {
@@ -98,7 +102,9 @@ impl Bar1d {
             density: spec.material.density,
             lift: spec.geometry.lift,
         };
-        Self::new(exact, elements, degree, true, run)
+        let mut bar = Self::new(exact, elements, degree, true, run)?;
+        bar.sweeps = spec.sweep;
+        Ok(bar)
     }
 
     /// The bar with `elements` elements of degree `degree`, clamped at x = L when `clamped`.
@@ -115,6 +121,7 @@ impl Bar1d {
             exact,
             space: Lagrange1d::new(mesh, degree, fixed),
             run,
+            sweeps: Vec::new(),
         })
     }
 
@@ -225,6 +232,10 @@ impl Case for Bar1d {
 
     fn run(&self) -> &RunSpec {
         &self.run
+    }
+
+    fn sweeps(&self) -> &[super::sweep::SweepSpec] {
+        &self.sweeps
     }
 }
 

@@ -7,6 +7,7 @@
 
 pub mod bar1d;
 pub mod spring_mass;
+pub mod sweep;
 
 use crate::error::{positive, Error, Result};
 use crate::exact::ExactContact;
@@ -40,6 +41,8 @@ pub trait Case: Send + Sync {
     fn stress_is_function(&self) -> bool;
     /// The run settings (defaults from the file, possibly overridden).
     fn run(&self) -> &RunSpec;
+    /// The `[[sweep]]` tables of the case file.
+    fn sweeps(&self) -> &[sweep::SweepSpec];
 }
 
 /// The `[run]` table: default discretisation choices.
@@ -56,6 +59,16 @@ pub struct RunSpec {
     /// Newmark γ.
     #[serde(default = "default_gamma")]
     pub gamma: f64,
+    /// HHT α ∈ [−⅓, 0].
+    #[serde(default = "default_alpha")]
+    pub alpha: f64,
+    /// Restitution e ∈ [0, 1] of Paoli–Schatzman and Moreau–Jean (default: the case's physical
+    /// restitution for spring_mass, 0 otherwise).
+    #[serde(default)]
+    pub restitution: Option<f64>,
+    /// Moreau–Jean θ ∈ [½, 1].
+    #[serde(default = "default_theta")]
+    pub theta: f64,
     /// Time step.
     pub dt: f64,
     /// Final time.
@@ -63,6 +76,9 @@ pub struct RunSpec {
     /// Contact solver name.
     #[serde(default = "default_solver")]
     pub contact_solver: String,
+    /// Relative compliance of the `penalty` contact solver.
+    #[serde(default = "default_penalty")]
+    pub penalty: f64,
 }
 
 fn default_beta() -> f64 {
@@ -73,6 +89,35 @@ fn default_gamma() -> f64 {
 }
 fn default_solver() -> String {
     "active_set".into()
+}
+fn default_alpha() -> f64 {
+    SchemeParams::default().alpha
+}
+fn default_theta() -> f64 {
+    SchemeParams::default().theta
+}
+fn default_penalty() -> f64 {
+    crate::contact::DEFAULT_PENALTY
+}
+
+impl RunSpec {
+    /// Default settings for `space` and `scheme` (parameters at their defaults).
+    pub fn new(space: &str, scheme: &str, dt: f64, t_end: f64) -> Self {
+        let p = SchemeParams::default();
+        Self {
+            space: space.into(),
+            scheme: scheme.into(),
+            beta: p.beta,
+            gamma: p.gamma,
+            alpha: p.alpha,
+            restitution: None,
+            theta: p.theta,
+            dt,
+            t_end,
+            contact_solver: default_solver(),
+            penalty: default_penalty(),
+        }
+    }
 }
 
 impl RunSpec {
@@ -89,7 +134,7 @@ impl RunSpec {
         }
         crate::space::by_name(&self.space)?;
         crate::time::by_name(&self.scheme, self.scheme_params())?;
-        crate::contact::by_name(&self.contact_solver, 0)?;
+        crate::contact::by_name(&self.contact_solver, 0, self.penalty)?;
         Ok(())
     }
 
@@ -98,6 +143,9 @@ impl RunSpec {
         SchemeParams {
             beta: self.beta,
             gamma: self.gamma,
+            alpha: self.alpha,
+            restitution: self.restitution.unwrap_or(0.0),
+            theta: self.theta,
         }
     }
 
@@ -118,6 +166,16 @@ pub struct Overrides {
     pub beta: Option<f64>,
     /// `--gamma`.
     pub gamma: Option<f64>,
+    /// `--alpha`.
+    pub alpha: Option<f64>,
+    /// `--restitution`.
+    pub restitution: Option<f64>,
+    /// `--theta`.
+    pub theta: Option<f64>,
+    /// `--contact-solver`.
+    pub contact_solver: Option<String>,
+    /// `--penalty`.
+    pub penalty: Option<f64>,
     /// `--degree`.
     pub degree: Option<usize>,
     /// `--elements`.
@@ -139,6 +197,13 @@ impl Overrides {
         }
         run.beta = self.beta.unwrap_or(run.beta);
         run.gamma = self.gamma.unwrap_or(run.gamma);
+        run.alpha = self.alpha.unwrap_or(run.alpha);
+        run.restitution = self.restitution.or(run.restitution);
+        run.theta = self.theta.unwrap_or(run.theta);
+        if let Some(s) = &self.contact_solver {
+            run.contact_solver = s.clone();
+        }
+        run.penalty = self.penalty.unwrap_or(run.penalty);
         run.dt = self.dt.unwrap_or(run.dt);
         run.t_end = self.t_end.unwrap_or(run.t_end);
     }

@@ -51,6 +51,9 @@ pub struct SpringMassSpec {
     pub system: System,
     /// Run defaults.
     pub run: RunSpec,
+    /// Sweeps run by `dyncontact sweep` and `report`.
+    #[serde(default)]
+    pub sweep: Vec<super::sweep::SweepSpec>,
 }
 
 /// A validated spring–mass case.
@@ -59,6 +62,7 @@ pub struct SpringMassCase {
     /// Exact trajectory on [0, t_end].
     pub exact: SpringMass,
     run: RunSpec,
+    sweeps: Vec<super::sweep::SweepSpec>,
 }
 
 impl SpringMassCase {
@@ -67,6 +71,8 @@ impl SpringMassCase {
         let s = spec.system;
         let mut run = spec.run;
         o.apply(&mut run);
+        // The schemes with a restitution law use the physical one unless told otherwise.
+        run.restitution = run.restitution.or(Some(s.restitution));
         run.validate()?;
         let p = SpringMassParams {
             mass: s.mass,
@@ -89,7 +95,11 @@ impl SpringMassCase {
             },
             e => e,
         })?;
-        Ok(Self { exact, run })
+        Ok(Self {
+            exact,
+            run,
+            sweeps: spec.sweep,
+        })
     }
 }
 
@@ -166,6 +176,10 @@ impl Case for SpringMassCase {
 
     fn run(&self) -> &RunSpec {
         &self.run
+    }
+
+    fn sweeps(&self) -> &[super::sweep::SweepSpec] {
+        &self.sweeps
     }
 }
 

@@ -1,22 +1,31 @@
-//! Exact LCP solver: Murty's least-index principal pivoting method on the Delassus matrix.
+//! Exact LCP solver: block principal pivoting (Júdice & Pires 1994) on the Delassus matrix, with
+//! Murty's single-pivot rule as the safeguard that guarantees termination.
 //!
-//! Each iterate is a complementary basis: for the active set 𝒜, `D_𝒜𝒜 λ_𝒜 = −q_𝒜`, λ = 0 elsewhere.
-//! The least index violating `λ_i ≥ 0` (i ∈ 𝒜) or `g_i ≥ 0` (i ∉ 𝒜) is flipped. For a P-matrix
-//! (D SPD) this terminates from any starting basis (Murty 1974), so the previous step's active set
-//! is a valid warm start. The result satisfies complementarity to round-off: λ_i = 0 or g_i = 0
-//! exactly up to the solve of the active block.
+//! Each iterate is a complementary basis: for the active set 𝒜, `D_𝒜𝒜 λ_𝒜 = −q_𝒜`, λ = 0
+//! elsewhere; the infeasible set is `{i ∈ 𝒜 : λ_i < 0} ∪ {i ∉ 𝒜 : g_i < 0}` with `g = q + D λ`.
+//! All infeasible indices are flipped at once (a semi-smooth Newton step on
+//! `min(λ, q + Dλ) = 0`) while their number decreases; after [`BACKUP_TRIES`] steps without
+//! decrease only the largest infeasible index is flipped (Murty 1974), which terminates for any
+//! P-matrix (D SPD) from any starting basis, so the previous step's active set is a valid warm
+//! start. Points with `q_i = +∞` are excluded (λ_i = 0). The result satisfies complementarity to
+//! round-off: λ_i = 0 or g_i = 0 up to the dense Cholesky solve of the active block.
 
 use super::{SolveInfo, Solver};
 use nalgebra::DMatrix;
 
-/// Workspace for Murty's method; allocated once for `n_c` contact points.
+/// Block-pivoting steps allowed without a decrease of the infeasible count before falling back
+/// to single pivots.
+pub const BACKUP_TRIES: usize = 3;
+
+/// Workspace for the pivoting method; allocated once for `n_c` contact points.
 #[derive(Debug, Clone)]
 pub struct ActiveSet {
     active: Vec<bool>,
     index: Vec<usize>,
+    infeasible: Vec<usize>,
     chol: Vec<f64>,
     rhs: Vec<f64>,
-    max_iterations: usize,
+    g: Vec<f64>,
 }
 
 impl ActiveSet {
@@ -25,9 +34,10 @@ impl ActiveSet {
         Self {
             active: vec![false; n_c],
             index: Vec::with_capacity(n_c),
+            infeasible: Vec::with_capacity(n_c),
             chol: vec![0.0; n_c * n_c],
             rhs: vec![0.0; n_c],
-            max_iterations: 50 * n_c + 50,
+            g: vec![0.0; n_c],
         }
     }
 
@@ -81,6 +91,34 @@ impl ActiveSet {
         }
         Ok(())
     }
+
+    /// Collects the infeasible indices of the current basis into `self.infeasible`.
+    fn find_infeasible(&mut self, d: &DMatrix<f64>, q: &[f64], lambda: &[f64], tol: (f64, f64)) {
+        let n = q.len();
+        self.infeasible.clear();
+        for i in 0..n {
+            let bad = if self.active[i] {
+                lambda[i] < -tol.1
+            } else {
+                self.g[i] = q[i] + (0..n).map(|j| d[(i, j)] * lambda[j]).sum::<f64>();
+                self.g[i] < -tol.0
+            };
+            if bad {
+                self.infeasible.push(i);
+            }
+        }
+    }
+}
+
+/// Absolute tolerances `(gap, pressure)` relative to the data scale.
+fn tolerances(d: &DMatrix<f64>, q: &[f64]) -> (f64, f64) {
+    let scale = q
+        .iter()
+        .filter(|x| x.is_finite())
+        .fold(0.0f64, |m, x| m.max(x.abs()))
+        .max(f64::MIN_POSITIVE);
+    let dmax = (0..q.len()).fold(0.0f64, |m, i| m.max(d[(i, i)]));
+    (1e-13 * scale, 1e-13 * scale / dmax.max(f64::MIN_POSITIVE))
 }
 
 impl Solver for ActiveSet {
@@ -98,41 +136,40 @@ impl Solver for ActiveSet {
         if n == 0 {
             return Ok(SolveInfo::default());
         }
-        let scale = q
-            .iter()
-            .fold(0.0f64, |m, x| m.max(x.abs()))
-            .max(f64::MIN_POSITIVE);
-        let dmax = (0..n).fold(0.0f64, |m, i| m.max(d[(i, i)]));
-        let (tol_g, tol_l) = (1e-13 * scale, 1e-13 * scale / dmax.max(f64::MIN_POSITIVE));
-        for (a, l) in self.active.iter_mut().zip(lambda.iter()) {
-            *a = *l > 0.0;
+        let tol = tolerances(d, q);
+        for ((a, l), qi) in self.active.iter_mut().zip(lambda.iter()).zip(q) {
+            *a = *l > 0.0 && qi.is_finite();
         }
-        for it in 0..self.max_iterations {
+        let (mut best, mut tries) = (n + 1, BACKUP_TRIES);
+        let max_iterations = 50 * n + 50;
+        for it in 0..max_iterations {
             self.solve_active(d, q, lambda)?;
-            let violating = (0..n).find(|&i| {
-                if self.active[i] {
-                    lambda[i] < -tol_l
-                } else {
-                    q[i] + (0..n).map(|j| d[(i, j)] * lambda[j]).sum::<f64>() < -tol_g
+            self.find_infeasible(d, q, lambda, tol);
+            let count = self.infeasible.len();
+            if count == 0 {
+                for l in lambda.iter_mut() {
+                    *l = l.max(0.0);
                 }
-            });
-            match violating {
-                Some(i) => self.active[i] = !self.active[i],
-                None => {
-                    for l in lambda.iter_mut() {
-                        *l = l.max(0.0);
-                    }
-                    let active = self.active.iter().filter(|a| **a).count();
-                    return Ok(SolveInfo {
-                        iterations: it + 1,
-                        active,
-                    });
-                }
+                return Ok(SolveInfo {
+                    iterations: it + 1,
+                    active: self.active.iter().filter(|a| **a).count(),
+                });
+            }
+            if count < best {
+                (best, tries) = (count, BACKUP_TRIES);
+            } else if tries > 0 {
+                tries -= 1;
+            } else {
+                let last = self.infeasible[count - 1];
+                self.infeasible.clear();
+                self.infeasible.push(last);
+            }
+            for &i in &self.infeasible {
+                self.active[i] = !self.active[i];
             }
         }
         Err(format!(
-            "no complementary solution after {} pivots",
-            self.max_iterations
+            "no complementary solution after {max_iterations} pivots"
         ))
     }
 }
@@ -140,17 +177,7 @@ impl Solver for ActiveSet {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn check(d: &DMatrix<f64>, q: &[f64], l: &[f64]) {
-        for i in 0..q.len() {
-            let g = q[i] + (0..q.len()).map(|j| d[(i, j)] * l[j]).sum::<f64>();
-            assert!(
-                l[i] >= 0.0 && g >= -1e-12 && (l[i] * g).abs() < 1e-12,
-                "i={i} λ={} g={g}",
-                l[i]
-            );
-        }
-    }
+    use crate::contact::check_solution;
 
     #[test]
     fn scalar_lcp_is_max_of_zero_and_minus_q_over_d() {
@@ -169,7 +196,16 @@ mod tests {
         let q = [-1.0, 0.5, -0.3];
         let mut l = [1.0, 1.0, 0.0];
         ActiveSet::new(3).solve(&d, &q, &mut l).unwrap();
-        check(&d, &q, &l);
+        check_solution(&d, &q, &l, 1e-12).unwrap();
         assert!(l[0] > 0.0 && l[1] == 0.0);
+    }
+
+    #[test]
+    fn excluded_point_gets_no_pressure() {
+        let d = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
+        let q = [-1.0, f64::INFINITY];
+        let mut l = [0.0, 5.0];
+        ActiveSet::new(2).solve(&d, &q, &mut l).unwrap();
+        assert!((l[0] - 0.5).abs() < 1e-15 && l[1] == 0.0, "{l:?}");
     }
 }

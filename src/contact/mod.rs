@@ -3,10 +3,14 @@
 //! After the predictor solve of an implicit step, the gaps at the new time level are affine in the
 //! contact pressures: `g = q + D λ`, with `D = c · B_N A⁻¹ B_Nᵀ` (the Delassus operator, the Schur
 //! complement of the step matrix A on the contact dofs, SPD). A [`Solver`] returns λ with
-//! `λ ≥ 0, g ≥ 0, λ · g = 0`.
+//! `λ ≥ 0, g ≥ 0, λ · g = 0`. A point with `q_i = +∞` is excluded from this step (λ_i = 0): the
+//! Moreau–Jean scheme uses it for points outside its index set.
 
 pub mod active_set;
+pub mod clarabel_qp;
+pub mod penalty;
 
+use crate::error::{Error, Result};
 use nalgebra::DMatrix;
 
 /// Outcome of one LCP solve.
@@ -33,16 +37,45 @@ pub trait Solver: Send {
 }
 
 /// Contact solver names accepted by [`by_name`].
-pub const SOLVERS: &[&str] = &["active_set"];
+pub const SOLVERS: &[&str] = &["active_set", "clarabel", "penalty"];
 
-/// The solver called `name` for `n_c` contact points.
-pub fn by_name(name: &str, n_c: usize) -> crate::Result<Box<dyn Solver>> {
+/// Default relative penalty compliance of the `penalty` solver (see [`penalty::Penalty`]).
+pub const DEFAULT_PENALTY: f64 = 1e-3;
+
+/// The solver called `name` for `n_c` contact points; `penalty` is the relative compliance of the
+/// `penalty` solver (ignored by the others).
+pub fn by_name(name: &str, n_c: usize, penalty: f64) -> Result<Box<dyn Solver>> {
     match name {
         "active_set" => Ok(Box::new(active_set::ActiveSet::new(n_c))),
-        _ => Err(crate::Error::UnknownName {
+        "clarabel" => Ok(Box::new(clarabel_qp::ClarabelQp::new())),
+        "penalty" => Ok(Box::new(penalty::Penalty::new(n_c, penalty)?)),
+        _ => Err(Error::UnknownName {
             kind: "contact solver",
             name: name.to_string(),
             known: SOLVERS.join(", "),
         }),
     }
+}
+
+/// Checks `λ ≥ 0`, `g = q + Dλ ≥ −tol` and `|λ_i g_i| ≤ tol` on the points with finite `q_i`
+/// (excluded points must have λ_i = 0); the error names the first violated condition.
+pub fn check_solution(
+    d: &DMatrix<f64>,
+    q: &[f64],
+    lambda: &[f64],
+    tol: f64,
+) -> std::result::Result<(), String> {
+    for i in 0..q.len() {
+        if !q[i].is_finite() {
+            if lambda[i] != 0.0 {
+                return Err(format!("excluded point {i} has λ = {}", lambda[i]));
+            }
+            continue;
+        }
+        let g = q[i] + (0..q.len()).map(|j| d[(i, j)] * lambda[j]).sum::<f64>();
+        if lambda[i] < 0.0 || g < -tol || (lambda[i] * g).abs() > tol {
+            return Err(format!("point {i}: λ = {:e}, g = {g:e}", lambda[i]));
+        }
+    }
+    Ok(())
 }

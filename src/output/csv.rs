@@ -53,7 +53,8 @@ fn writer(path: &Path) -> Result<csv::Writer<std::fs::File>> {
     })
 }
 
-fn write_rows<I, R>(path: &Path, header: &[&str], rows: I) -> Result<()>
+/// Writes a CSV file with `header` and string rows.
+pub fn write_rows<I, R>(path: &Path, header: &[&str], rows: I) -> Result<()>
 where
     I: IntoIterator<Item = R>,
     R: IntoIterator<Item = String>,

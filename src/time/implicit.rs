@@ -1,8 +1,10 @@
 //! The contact-coupled linear solve shared by the implicit schemes.
 //!
-//! Each step solves `A x = r − c B_Nᵀ λ` with a constant `A` (factored once) and λ from the LCP
-//! `g = g₀ − B_N U = q + D λ ≥ 0, λ ≥ 0, λ·g = 0`, where `U* = A⁻¹ r` (predictor),
-//! `q = g₀ − B_N U*`, `Z = A⁻¹ B_Nᵀ` and `D = c B_N Z` (Delassus operator, n_c × n_c).
+//! Each step solves `A X = r − c B_Nᵀ λ` with a constant `A = m M + k K` (factored once) and λ
+//! from the LCP `γ = o − B_N X = q + D λ ≥ 0, λ ≥ 0, λ·γ = 0`, where `X* = A⁻¹ r` (predictor),
+//! `q = o − B_N X*`, `Z = A⁻¹ B_Nᵀ` and `D = c B_N Z` (Delassus operator, n_c × n_c). The offset
+//! `o` is the initial gap g₀ for a position-level law (then γ is the gap at the new level) and a
+//! velocity term for Moreau–Jean; `o_i = +∞` excludes point i from the step.
 //! `Z` is kept when it is small (n · n_c ≤ [`STORE_Z_LIMIT`]); otherwise the corrected
 //! state is obtained by a second solve.
 
@@ -38,12 +40,23 @@ impl ContactStep {
     /// (`c` is the factor of `B_Nᵀ λ` in the step equation).
     pub fn new(
         problem: &Problem,
-        m_coef: f64,
-        k_coef: f64,
+        (m_coef, k_coef): (f64, f64),
         c: f64,
         solver: Box<dyn Solver>,
     ) -> Result<Self> {
-        let mut op = problem.inertia.step_operator(&problem.k, m_coef, k_coef)?;
+        Self::with_stiffness(problem, &problem.k, (m_coef, k_coef), c, solver)
+    }
+
+    /// As [`ContactStep::new`] with the stiffness `k` in place of the problem's (central
+    /// difference puts only the block of its massless dofs in the step matrix).
+    pub fn with_stiffness(
+        problem: &Problem,
+        k: &crate::linalg::SpMat,
+        (m_coef, k_coef): (f64, f64),
+        c: f64,
+        solver: Box<dyn Solver>,
+    ) -> Result<Self> {
+        let mut op = problem.inertia.step_operator(k, m_coef, k_coef)?;
         let (n, nw, nc) = (problem.n(), problem.inertia.dim(), problem.contact.len());
         let mut d = DMatrix::zeros(nc, nc);
         let mut zu = Vec::with_capacity(nc);
@@ -79,24 +92,29 @@ impl ContactStep {
         })
     }
 
-    /// Solves `A (U, w) = r − c B_Nᵀ λ` with the contact law at step `step`, time `time` (for
-    /// error messages); `lambda` is a warm start on entry.
+    /// Solves `A X = r` without contact (X: displacement-like unknowns `u`, inertial `w`).
+    pub fn solve_free(&mut self, r: &[f64], u: &mut [f64], w: &mut [f64]) {
+        self.op.solve(r, u, w);
+    }
+
+    /// Solves `A (X, w) = r − c B_Nᵀ λ` with the complementarity law on `o − B_N X` (`offset` = o)
+    /// at step `step`, time `time` (for error messages); `lambda` is a warm start on entry.
     pub fn solve(
         &mut self,
         problem: &Problem,
-        r: &[f64],
-        u: &mut [f64],
-        w: &mut [f64],
+        (r, offset): (&[f64], &[f64]),
+        (u, w): (&mut [f64], &mut [f64]),
         lambda: &mut [f64],
         (step, time): (usize, f64),
     ) -> Result<SolveInfo> {
         self.op.solve(r, u, w);
-        problem.contact.gap(u, &mut self.q);
+        self.q.copy_from_slice(offset);
+        linalg::mul_add(&mut self.q, &problem.contact.b_n, u, -1.0);
         let info = self
             .solver
             .solve(&self.d, &self.q, lambda)
             .map_err(|reason| Error::ContactSolver { step, time, reason })?;
-        if info.active == 0 {
+        if lambda.iter().all(|&l| l == 0.0) {
             return Ok(info);
         }
         match &self.z {

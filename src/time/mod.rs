@@ -1,9 +1,24 @@
 //! Time schemes. A [`Scheme`] holds the parameters; [`Scheme::prepare`] assembles and factors the
 //! constant step matrix once and returns an [`Integrator`] whose [`Integrator::step`] advances one
 //! time step with the contact law enforced at the new time level.
+//!
+//! | name | file | order (smooth) | contact law |
+//! |---|---|---|---|
+//! | `newmark` | [`newmark`] | 2 (γ = ½) | position, t_{n+1} |
+//! | `hht` | [`hht`] | 2 | position, t_{n+1} |
+//! | `backward_euler` | [`backward_euler`] | 1 | position, t_{n+1} |
+//! | `paoli_schatzman` | [`paoli_schatzman`] | 2 | position, `(U_{n+1} + e U_{n−1})/(1+e)` |
+//! | `moreau_jean` | [`moreau_jean`] | 1 (2 for θ = ½ without impacts) | velocity + restitution e |
+//! | `central_difference` | [`central_difference`] | 2, CFL-limited | position, t_{n+1} |
 
+pub mod backward_euler;
+pub mod central_difference;
+pub mod hht;
 pub mod implicit;
+pub mod moreau_jean;
 pub mod newmark;
+pub mod paoli_schatzman;
+mod stepper;
 
 use crate::contact;
 use crate::error::{Error, Result};
@@ -27,8 +42,12 @@ pub struct State<'a> {
     pub step: usize,
     /// Displacement U.
     pub u: &'a [f64],
-    /// Inertial velocity (U̇ for a sparse mass, the H_h velocity for the singular dynamic method).
+    /// Inertial velocity (U̇ for a sparse mass, the H_h velocity for the singular dynamic method;
+    /// the half-step velocity `(U_{n+1} − U_n)/Δt` for the three-level schemes).
     pub v: &'a [f64],
+    /// Displacement at which the scheme's discrete energy is evaluated with `v`: U itself, or the
+    /// midpoint `(U_{n+1} + U_n)/2` for the three-level schemes (the energy they conserve).
+    pub energy_u: &'a [f64],
     /// Contact pressures λ (nodal forces, ≥ 0) at the current time level.
     pub lambda: &'a [f64],
 }
@@ -56,16 +75,29 @@ pub trait Scheme: std::fmt::Debug + Send + Sync {
     ) -> Result<Box<dyn Integrator + 'p>>;
 }
 
-/// Scheme names accepted on the CLI (`newmark` so far).
-pub const SCHEMES: &[&str] = &["newmark"];
+/// Scheme names accepted on the CLI.
+pub const SCHEMES: &[&str] = &[
+    "newmark",
+    "hht",
+    "backward_euler",
+    "paoli_schatzman",
+    "moreau_jean",
+    "central_difference",
+];
 
-/// Scheme parameters as given by a case file or the CLI; unused ones are ignored.
+/// Scheme parameters as given by a case file or the CLI; each scheme reads its own.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SchemeParams {
     /// Newmark β.
     pub beta: f64,
     /// Newmark γ.
     pub gamma: f64,
+    /// HHT α ∈ [−⅓, 0].
+    pub alpha: f64,
+    /// Restitution coefficient e ∈ [0, 1] (Paoli–Schatzman, Moreau–Jean).
+    pub restitution: f64,
+    /// Moreau–Jean θ ∈ [½, 1].
+    pub theta: f64,
 }
 
 impl Default for SchemeParams {
@@ -73,20 +105,30 @@ impl Default for SchemeParams {
         Self {
             beta: 0.25,
             gamma: 0.5,
+            alpha: -0.05,
+            restitution: 0.0,
+            theta: 0.5,
         }
     }
 }
 
 /// The scheme called `name` with validated parameters.
 pub fn by_name(name: &str, p: SchemeParams) -> Result<Box<dyn Scheme>> {
-    match name {
-        "newmark" => Ok(Box::new(newmark::Newmark::new(p.beta, p.gamma)?)),
-        _ => Err(Error::UnknownName {
-            kind: "scheme",
-            name: name.to_string(),
-            known: SCHEMES.join(", "),
-        }),
-    }
+    Ok(match name {
+        "newmark" => Box::new(newmark::Newmark::new(p.beta, p.gamma)?),
+        "hht" => Box::new(hht::Hht::new(p.alpha)?),
+        "backward_euler" => Box::new(backward_euler::BackwardEuler),
+        "paoli_schatzman" => Box::new(paoli_schatzman::PaoliSchatzman::new(p.restitution)?),
+        "moreau_jean" => Box::new(moreau_jean::MoreauJean::new(p.theta, p.restitution)?),
+        "central_difference" => Box::new(central_difference::CentralDifference),
+        _ => {
+            return Err(Error::UnknownName {
+                kind: "scheme",
+                name: name.to_string(),
+                known: SCHEMES.join(", "),
+            })
+        }
+    })
 }
 
 /// Error if any value of `x` is not finite.

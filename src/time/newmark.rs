@@ -4,17 +4,18 @@
 //! GetFEM's MU/MV/MA form (`shared/reference/methods.md`):
 //!
 //! - predictor `w̃ = wₙ + Δt vₙ + Δt² (½ − β) aₙ`;
-//! - `(M + β Δt² K) U_{n+1} = M w̃ + β Δt² (F − B_Nᵀ λ_{n+1})` with the Signorini conditions on
-//!   `g_{n+1} = g₀ − B_N U_{n+1}` (singular dynamic method: `Bᵀ w_{n+1} + β Δt² K U_{n+1} = …`,
-//!   `C w_{n+1} = B U_{n+1}`);
+//! - `(M + (1 + α) β Δt² K) U_{n+1} = M w̃ + β Δt² (F + α K Uₙ − B_Nᵀ λ_{n+1})` with the Signorini
+//!   conditions on `g_{n+1} = g₀ − B_N U_{n+1}` (singular dynamic method: `Bᵀ w_{n+1} + … = …`,
+//!   `C w_{n+1} = B U_{n+1}`); α = 0 here, α ≠ 0 is [`super::hht`];
 //! - `a_{n+1} = (w_{n+1} − w̃)/(β Δt²)`, `v_{n+1} = vₙ + Δt ((1 − γ) aₙ + γ a_{n+1})`.
 //!
 //! Newmark (1959); with contact: Khenous, Laborde, Renard (2008), Eur. J. Mech. A/Solids 27.
 
 use super::implicit::ContactStep;
-use super::{check_finite, Integrator, Scheme, State, StepInfo};
+use super::stepper::{initial_acceleration, time_step, Stepper};
+use super::{Integrator, Scheme, State, StepInfo};
 use crate::contact;
-use crate::error::{in_range, positive, Error, Result};
+use crate::error::{in_range, positive, Result};
 use crate::linalg;
 use crate::problem::Problem;
 
@@ -51,105 +52,76 @@ impl Scheme for Newmark {
         dt: f64,
         contact: Box<dyn contact::Solver>,
     ) -> Result<Box<dyn Integrator + 'p>> {
-        positive("dt", dt)?;
-        problem.validate()?;
-        let c = self.beta * dt * dt;
-        let system = ContactStep::new(problem, 1.0, c, c, contact)?;
-        let w = problem.inertia.project(&problem.u0)?;
-        let v = problem.inertia.project(&problem.v0)?;
-        let mut r = problem.f.clone();
-        linalg::mul_add(&mut r, &problem.k, &problem.u0, -1.0);
-        let a = problem.inertia.initial_acceleration(&r)?;
-        let nw = w.len();
-        if [&w, &v, &a]
-            .iter()
-            .any(|x| x.iter().any(|y| !y.is_finite()))
-        {
-            return Err(Error::invalid(
-                "initial state",
-                "NaN",
-                "initial data must be finite",
-            ));
-        }
-        Ok(Box::new(NewmarkIntegrator {
-            p: *self,
-            problem,
-            system,
-            dt,
-            t: 0.0,
-            step: 0,
-            u: problem.u0.clone(),
-            w,
-            v,
-            a,
-            lambda: vec![0.0; problem.contact.len()],
-            w_pred: vec![0.0; nw],
-            rhs: vec![0.0; problem.n()],
-        }))
+        Ok(Box::new(NewmarkIntegrator::new(
+            problem, dt, contact, *self, 0.0,
+        )?))
     }
 }
 
-struct NewmarkIntegrator<'p> {
+/// Newmark / HHT-α integrator (α = 0: Newmark).
+pub(crate) struct NewmarkIntegrator<'p> {
+    s: Stepper<'p>,
     p: Newmark,
-    problem: &'p Problem,
-    system: ContactStep,
-    dt: f64,
-    t: f64,
-    step: usize,
-    u: Vec<f64>,
-    w: Vec<f64>,
-    v: Vec<f64>,
+    alpha: f64,
     a: Vec<f64>,
-    lambda: Vec<f64>,
     w_pred: Vec<f64>,
-    rhs: Vec<f64>,
+}
+
+impl<'p> NewmarkIntegrator<'p> {
+    /// Factors `M + (1 + α) β Δt² K` and starts from a consistent initial acceleration.
+    pub fn new(
+        problem: &'p Problem,
+        dt: f64,
+        contact: Box<dyn contact::Solver>,
+        p: Newmark,
+        alpha: f64,
+    ) -> Result<Self> {
+        let dt = time_step(problem, dt)?;
+        let c = p.beta * dt * dt;
+        let system = ContactStep::new(problem, (1.0, (1.0 + alpha) * c), c, contact)?;
+        let a = problem.inertia.project(&initial_acceleration(problem)?)?;
+        let s = Stepper::new(problem, dt, system)?;
+        super::check_finite(&a, 0, 0.0, "initial acceleration")?;
+        Ok(Self {
+            w_pred: vec![0.0; a.len()],
+            s,
+            p,
+            alpha,
+            a,
+        })
+    }
 }
 
 impl Integrator for NewmarkIntegrator<'_> {
     fn step(&mut self) -> Result<StepInfo> {
-        let (dt, beta, gamma) = (self.dt, self.p.beta, self.p.gamma);
+        let (dt, beta, gamma) = (self.s.dt, self.p.beta, self.p.gamma);
         let c = beta * dt * dt;
-        for i in 0..self.w.len() {
-            self.w_pred[i] = self.w[i] + dt * self.v[i] + dt * dt * (0.5 - beta) * self.a[i];
+        for i in 0..self.s.w.len() {
+            self.w_pred[i] = self.s.w[i] + dt * self.s.v[i] + dt * dt * (0.5 - beta) * self.a[i];
         }
-        self.rhs
-            .iter_mut()
-            .zip(&self.problem.f)
-            .for_each(|(r, f)| *r = c * f);
-        self.problem
+        self.s.rhs_from_load(c);
+        if self.alpha != 0.0 {
+            linalg::mul_add(
+                &mut self.s.rhs,
+                &self.s.problem.k,
+                &self.s.u,
+                c * self.alpha,
+            );
+        }
+        self.s
+            .problem
             .inertia
-            .apply_add(&mut self.rhs, &self.w_pred, 1.0);
-        let t_new = (self.step + 1) as f64 * dt;
-        let info = self.system.solve(
-            self.problem,
-            &self.rhs,
-            &mut self.u,
-            &mut self.w,
-            &mut self.lambda,
-            (self.step + 1, t_new),
-        )?;
-        for i in 0..self.w.len() {
-            let a_new = (self.w[i] - self.w_pred[i]) / c;
-            self.v[i] += dt * ((1.0 - gamma) * self.a[i] + gamma * a_new);
+            .apply_add(&mut self.s.rhs, &self.w_pred, 1.0);
+        let info = self.s.solve_position()?;
+        for i in 0..self.s.w.len() {
+            let a_new = (self.s.w[i] - self.w_pred[i]) / c;
+            self.s.v[i] += dt * ((1.0 - gamma) * self.a[i] + gamma * a_new);
             self.a[i] = a_new;
         }
-        self.step += 1;
-        self.t = t_new;
-        check_finite(&self.u, self.step, self.t, "displacement")?;
-        check_finite(&self.v, self.step, self.t, "velocity")?;
-        Ok(StepInfo {
-            contact_iterations: info.iterations,
-            active: info.active,
-        })
+        self.s.finish(info)
     }
 
     fn state(&self) -> State<'_> {
-        State {
-            t: self.t,
-            step: self.step,
-            u: &self.u,
-            v: &self.v,
-            lambda: &self.lambda,
-        }
+        self.s.state(&self.s.u)
     }
 }

@@ -17,13 +17,9 @@ pub const UNIT_BAR: BarImpact = BarImpact {
 /// Run settings for bar1d.
 pub fn run_spec(space: &str, beta: f64, gamma: f64, dt: f64, t_end: f64) -> RunSpec {
     RunSpec {
-        space: space.into(),
-        scheme: "newmark".into(),
         beta,
         gamma,
-        dt,
-        t_end,
-        contact_solver: "active_set".into(),
+        ..RunSpec::new(space, "newmark", dt, t_end)
     }
 }
 

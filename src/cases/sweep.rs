@@ -1,0 +1,143 @@
+//! `[[sweep]]` tables of a case file: the combinations the harness runs.
+//!
+//! ```toml
+//! [[sweep]]
+//! name = "orders"
+//! spaces = ["standard", "mass_redistribution"]
+//! schemes = [{ scheme = "newmark", beta = 0.5, gamma = 0.5 }, { scheme = "hht", alpha = -0.1 }]
+//! degree = { singular_dynamic = 2 }   # per-space polynomial degree (optional)
+//! elements = 20                         # coarsest level (omit for a 0D case)
+//! dt = 0.025
+//! ratio = 2                             # elements × ratioᵏ, dt / ratioᵏ
+//! levels = 5
+//! quick_levels = 3                      # levels kept by `--quick` (default 2)
+//! # or: refinements = [{ elements = 20, dt = 0.025 }, { elements = 40, dt = 0.0125 }]
+//! ```
+
+use super::Overrides;
+use crate::error::{positive, Error, Result};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// One scheme with its parameters (unset ones take the case's `[run]` values).
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SchemeChoice {
+    /// Scheme name.
+    pub scheme: String,
+    /// Newmark β.
+    pub beta: Option<f64>,
+    /// Newmark γ.
+    pub gamma: Option<f64>,
+    /// HHT α.
+    pub alpha: Option<f64>,
+    /// Restitution e.
+    pub restitution: Option<f64>,
+    /// Moreau–Jean θ.
+    pub theta: Option<f64>,
+    /// Contact solver.
+    pub contact_solver: Option<String>,
+    /// Penalty relative compliance.
+    pub penalty: Option<f64>,
+}
+
+/// One refinement level: number of elements (None for a 0D case) and time step.
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Refinement {
+    /// Elements along the mesh's first direction.
+    pub elements: Option<usize>,
+    /// Time step.
+    pub dt: f64,
+}
+
+/// A `[[sweep]]` table.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSpec {
+    /// Name (used in records and orders).
+    pub name: String,
+    /// Space names.
+    pub spaces: Vec<String>,
+    /// Schemes with parameters.
+    pub schemes: Vec<SchemeChoice>,
+    /// Per-space polynomial degree.
+    #[serde(default)]
+    pub degree: BTreeMap<String, usize>,
+    /// Explicit refinement list (instead of elements/dt/ratio/levels).
+    #[serde(default)]
+    pub refinements: Vec<Refinement>,
+    /// Coarsest number of elements.
+    pub elements: Option<usize>,
+    /// Coarsest time step.
+    pub dt: Option<f64>,
+    /// Refinement ratio (integer ≥ 2).
+    #[serde(default = "two")]
+    pub ratio: usize,
+    /// Number of levels.
+    pub levels: Option<usize>,
+    /// Levels kept by `--quick`.
+    #[serde(default = "two")]
+    pub quick_levels: usize,
+    /// Final time (default: the case's `[run] t_end`).
+    pub t_end: Option<f64>,
+}
+
+fn two() -> usize {
+    2
+}
+
+impl SweepSpec {
+    /// The refinement levels (the first `quick_levels` with `quick`), validated.
+    pub fn refinements(&self, quick: bool) -> Result<Vec<Refinement>> {
+        let field = |f: &str| format!("sweep.{}.{f}", self.name);
+        let mut levels = if self.refinements.is_empty() {
+            let dt = self
+                .dt
+                .ok_or_else(|| Error::invalid(field("dt"), "missing", "dt or refinements"))?;
+            let count = self
+                .levels
+                .ok_or_else(|| Error::invalid(field("levels"), "missing", "levels ≥ 1"))?;
+            if self.ratio < 2 {
+                return Err(Error::invalid(field("ratio"), self.ratio, "integer ≥ 2"));
+            }
+            (0..count as u32)
+                .map(|k| Refinement {
+                    elements: self.elements.map(|n| n * self.ratio.pow(k)),
+                    dt: dt / self.ratio.pow(k) as f64,
+                })
+                .collect()
+        } else {
+            self.refinements.clone()
+        };
+        if levels.is_empty() {
+            return Err(Error::invalid(field("levels"), 0, "at least one level"));
+        }
+        for r in &levels {
+            positive(&field("dt"), r.dt)?;
+        }
+        if quick {
+            levels.truncate(self.quick_levels.max(1));
+        }
+        Ok(levels)
+    }
+
+    /// Command-line-like overrides of one combination.
+    pub fn overrides(&self, space: &str, choice: &SchemeChoice, level: Refinement) -> Overrides {
+        Overrides {
+            space: Some(space.to_string()),
+            scheme: Some(choice.scheme.clone()),
+            beta: choice.beta,
+            gamma: choice.gamma,
+            alpha: choice.alpha,
+            restitution: choice.restitution,
+            theta: choice.theta,
+            contact_solver: choice.contact_solver.clone(),
+            penalty: choice.penalty,
+            degree: self.degree.get(space).copied(),
+            elements: level.elements,
+            dt: Some(level.dt),
+            t_end: self.t_end,
+        }
+    }
+}

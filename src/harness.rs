@@ -1,0 +1,367 @@
+//! The harness: every combination declared in the `[[sweep]]` tables of case files, run in
+//! parallel (rayon) with a progress bar (indicatif), one [`RunRecord`] per run, and observed orders.
+//!
+//! A run that fails (solver failure, unstable time step, unsupported combination) or diverges
+//! (NaN, or energy above [`BLOWUP_FACTOR`] × E(0)) is recorded with its status and reason; it never
+//! aborts the sweep. Records come back in enumeration order, so outputs are deterministic.
+
+use crate::cases::{self, sweep::Refinement, sweep::SchemeChoice, Case};
+use crate::error::{Error, Result};
+use crate::metrics::Metrics;
+use crate::report::fit_order;
+use crate::run::{self, RunResult, Summary};
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A run whose energy exceeds this multiple of E(0) is recorded as diverged.
+pub const BLOWUP_FACTOR: f64 = 100.0;
+
+/// One combination to run.
+#[derive(Debug, Clone)]
+pub struct Job {
+    /// Case file (for messages) and its text.
+    pub path: Arc<PathBuf>,
+    text: Arc<String>,
+    /// Sweep name.
+    pub sweep: String,
+    /// Space.
+    pub space: String,
+    /// Scheme and parameters.
+    pub choice: SchemeChoice,
+    /// Level index (0 = coarsest).
+    pub level: usize,
+    /// Refinement of this level.
+    pub refinement: Refinement,
+    overrides: cases::Overrides,
+}
+
+/// Outcome of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    /// Finished, energy bounded.
+    Ok,
+    /// NaN or energy blow-up.
+    Diverged,
+    /// Error before or during the run (unstable dt, solver failure, …).
+    Failed,
+    /// The combination is not defined (e.g. an explicit scheme with the singular dynamic mass).
+    Unsupported,
+}
+
+impl Status {
+    /// Name written to CSV.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::Diverged => "diverged",
+            Status::Failed => "failed",
+            Status::Unsupported => "unsupported",
+        }
+    }
+}
+
+/// One row of `records.csv`.
+#[derive(Debug, Clone)]
+pub struct RunRecord {
+    /// Sweep name.
+    pub sweep: String,
+    /// Level index.
+    pub level: usize,
+    /// Outcome.
+    pub status: Status,
+    /// Why the run is not `ok` (empty otherwise).
+    pub reason: String,
+    /// Identification, cost and metrics (metrics NaN/None when the run did not finish).
+    pub summary: Summary,
+}
+
+/// Enumerates the jobs of every `[[sweep]]` of the case file at `path` (`--quick`: the first
+/// levels only). Errors on an invalid case file or sweep table, before anything runs.
+pub fn jobs(path: &Path, quick: bool) -> Result<Vec<Job>> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let case = cases::parse(&text, path, &cases::Overrides::default())?;
+    if case.sweeps().is_empty() {
+        return Err(Error::invalid(
+            "sweep",
+            path.display().to_string(),
+            "the case file has no [[sweep]] table",
+        ));
+    }
+    let (path, text) = (Arc::new(path.to_path_buf()), Arc::new(text));
+    let mut out = Vec::new();
+    for s in case.sweeps() {
+        let levels = s.refinements(quick)?;
+        for space in &s.spaces {
+            crate::space::by_name(space)?;
+            for choice in &s.schemes {
+                for (level, &refinement) in levels.iter().enumerate() {
+                    let overrides = s.overrides(space, choice, refinement);
+                    let mut spec = case.run().clone();
+                    overrides.apply(&mut spec);
+                    spec.validate()?;
+                    out.push(Job {
+                        path: path.clone(),
+                        text: text.clone(),
+                        sweep: s.name.clone(),
+                        space: space.clone(),
+                        choice: choice.clone(),
+                        level,
+                        refinement,
+                        overrides,
+                    });
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The jobs of shard `i` of `n` (1-based): every n-th job starting at i − 1.
+pub fn shard(jobs: Vec<Job>, (i, n): (usize, usize)) -> Result<Vec<Job>> {
+    if n == 0 || i == 0 || i > n {
+        return Err(Error::invalid(
+            "--shard",
+            format!("{i}/{n}"),
+            "must be i/n with 1 ≤ i ≤ n",
+        ));
+    }
+    Ok(jobs
+        .into_iter()
+        .enumerate()
+        .filter(|(k, _)| k % n == i - 1)
+        .map(|(_, j)| j)
+        .collect())
+}
+
+/// Runs the jobs in parallel; `progress` shows a bar on the terminal. Records are in job order.
+pub fn run_jobs(jobs: &[Job], progress: bool) -> Vec<RunRecord> {
+    let bar = if progress {
+        ProgressBar::new(jobs.len() as u64)
+    } else {
+        ProgressBar::hidden()
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {elapsed} elapsed, ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let records = jobs
+        .par_iter()
+        .map(|j| {
+            let r = run_job(j);
+            bar.inc(1);
+            r
+        })
+        .collect();
+    bar.finish_and_clear();
+    records
+}
+
+/// Runs one job and classifies its outcome.
+pub fn run_job(job: &Job) -> RunRecord {
+    let failed = |e: Error, case: Option<&dyn Case>| {
+        let status = match e {
+            Error::Diverged { .. } => Status::Diverged,
+            Error::Unsupported(_) => Status::Unsupported,
+            _ => Status::Failed,
+        };
+        (status, e.to_string(), failed_summary(job, case))
+    };
+    let (status, reason, summary) = match cases::parse(&job.text, &job.path, &job.overrides) {
+        Err(e) => failed(e, None),
+        Ok(case) => match run::run(case.as_ref()) {
+            Err(e) => failed(e, Some(case.as_ref())),
+            Ok(RunResult { summary, .. }) if summary.metrics.energy_drift > BLOWUP_FACTOR => (
+                Status::Diverged,
+                format!("energy exceeded {BLOWUP_FACTOR} × E(0)"),
+                summary,
+            ),
+            Ok(RunResult { summary, .. }) => (Status::Ok, String::new(), summary),
+        },
+    };
+    RunRecord {
+        sweep: job.sweep.clone(),
+        level: job.level,
+        status,
+        reason,
+        summary,
+    }
+}
+
+/// Identification of a run that produced no metrics.
+fn failed_summary(job: &Job, case: Option<&dyn Case>) -> Summary {
+    let spec = case.map(|c| c.run().clone());
+    let parameters = spec
+        .as_ref()
+        .and_then(|s| crate::time::by_name(&s.scheme, s.scheme_params()).ok())
+        .map_or_else(String::new, |s| s.parameters());
+    Summary {
+        case: case.map_or("", |c| c.kind()).to_string(),
+        space: job.space.clone(),
+        scheme: job.choice.scheme.clone(),
+        parameters,
+        h: case.map_or(f64::NAN, |c| c.h()),
+        dt: job.refinement.dt,
+        dofs: 0,
+        steps: 0,
+        contact_iterations: 0,
+        wall_time: 0.0,
+        metrics: Metrics::unavailable(),
+    }
+}
+
+/// Columns of `records.csv` before the summary columns.
+pub const RECORD_COLUMNS: &[&str] = &["sweep", "level", "status", "reason"];
+
+/// Writes `records.csv`: [`RECORD_COLUMNS`] then `summary.csv`'s columns.
+pub fn write_records(path: &Path, records: &[RunRecord]) -> Result<()> {
+    let mut header = RECORD_COLUMNS.to_vec();
+    header.extend_from_slice(crate::output::csv::SUMMARY_COLUMNS);
+    crate::output::csv::write_rows(
+        path,
+        &header,
+        records.iter().map(|r| {
+            let mut v = vec![
+                r.sweep.clone(),
+                r.level.to_string(),
+                r.status.as_str().to_string(),
+                r.reason.clone(),
+            ];
+            v.extend(crate::output::csv::summary_record(&r.summary));
+            v
+        }),
+    )
+}
+
+/// Quantities whose observed orders are fitted, with their accessor.
+pub type Quantity = (&'static str, fn(&Metrics) -> Option<f64>);
+
+/// The fitted quantities: displacement, energy, contact stress and impact time errors.
+pub const QUANTITIES: [Quantity; 6] = [
+    ("err_u_linf_l2", |m| m.err_u_linf_l2),
+    ("err_u_contact", |m| m.err_u_contact),
+    ("err_u_l2_h1", |m| m.err_u_l2_h1),
+    ("err_energy", |m| m.err_energy),
+    ("err_sigma_l2", |m| m.err_sigma_l2),
+    ("impact_time_err", |m| m.impact_time_err),
+];
+
+/// Expected order from the literature / theory, where known (`shared/reference/methods.md`).
+pub fn literature(case: &str, quantity: &str) -> &'static str {
+    match (case, quantity) {
+        ("bar1d", "err_u_linf_l2" | "err_u_contact") => "1",
+        ("bar1d", "err_u_l2_h1" | "err_energy" | "err_sigma_l2") => "1/3-1/2",
+        _ => "",
+    }
+}
+
+/// One row of `orders.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Order {
+    /// Case kind.
+    pub case: String,
+    /// Sweep name.
+    pub sweep: String,
+    /// Space.
+    pub space: String,
+    /// Scheme.
+    pub scheme: String,
+    /// Scheme parameters.
+    pub parameters: String,
+    /// Quantity name.
+    pub quantity: &'static str,
+    /// Least-squares slope of log(error) against log(h) (log(dt) for 0D cases) and the RMS
+    /// residual of the fit; None with fewer than two usable levels.
+    pub fit: Option<(f64, f64)>,
+    /// Levels used (status ok, error finite and > 0).
+    pub points: usize,
+}
+
+/// Observed orders per case × sweep × space × scheme × quantity, in record order.
+pub fn orders(records: &[RunRecord]) -> Vec<Order> {
+    let key = |r: &RunRecord| {
+        (
+            r.summary.case.clone(),
+            r.sweep.clone(),
+            r.summary.space.clone(),
+            r.summary.scheme.clone(),
+            r.summary.parameters.clone(),
+        )
+    };
+    let mut groups: Vec<(_, Vec<&RunRecord>)> = Vec::new();
+    for r in records {
+        let k = key(r);
+        match groups.iter_mut().find(|(g, _)| *g == k) {
+            Some((_, v)) => v.push(r),
+            None => groups.push((k, vec![r])),
+        }
+    }
+    let mut out = Vec::new();
+    for ((case, sweep, space, scheme, parameters), runs) in groups {
+        for (quantity, get) in QUANTITIES {
+            let pts: Vec<(f64, f64)> = runs
+                .iter()
+                .filter(|r| r.status == Status::Ok)
+                .filter_map(|r| {
+                    let s = &r.summary;
+                    let x = if s.h.is_finite() { s.h } else { s.dt };
+                    get(&s.metrics)
+                        .filter(|e| e.is_finite() && *e > 0.0)
+                        .map(|e| (x, e))
+                })
+                .collect();
+            if runs.iter().all(|r| get(&r.summary.metrics).is_none()) {
+                continue;
+            }
+            let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
+            out.push(Order {
+                case: case.clone(),
+                sweep: sweep.clone(),
+                space: space.clone(),
+                scheme: scheme.clone(),
+                parameters: parameters.clone(),
+                quantity,
+                fit: (pts.len() >= 2).then(|| fit_order(&x, &y)),
+                points: pts.len(),
+            });
+        }
+    }
+    out
+}
+
+/// Columns of `orders.csv`.
+pub const ORDER_COLUMNS: &[&str] = &[
+    "case",
+    "sweep",
+    "space",
+    "scheme",
+    "parameters",
+    "quantity",
+    "order",
+    "fit_residual",
+    "points",
+    "literature",
+];
+
+/// Writes `orders.csv` (orders and residuals with 4 decimals).
+pub fn write_orders(path: &Path, orders: &[Order]) -> Result<()> {
+    crate::output::csv::write_rows(
+        path,
+        ORDER_COLUMNS,
+        orders.iter().map(|o| {
+            vec![
+                o.case.clone(),
+                o.sweep.clone(),
+                o.space.clone(),
+                o.scheme.clone(),
+                o.parameters.clone(),
+                o.quantity.to_string(),
+                o.fit.map_or_else(String::new, |f| format!("{:.4}", f.0)),
+                o.fit.map_or_else(String::new, |f| format!("{:.4}", f.1)),
+                o.points.to_string(),
+                literature(&o.case, o.quantity).to_string(),
+            ]
+        }),
+    )
+}

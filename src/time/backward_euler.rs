@@ -1,0 +1,74 @@
+//! Backward (implicit) Euler on the first-order form, contact at t_{n+1}:
+//!
+//! `v_{n+1} = vₙ + Δt a_{n+1}`, `U_{n+1} = Uₙ + Δt v_{n+1}`, i.e. in inertial variables
+//! `(M + Δt² K) U_{n+1} = M (wₙ + Δt vₙ) + Δt² (F − B_Nᵀ λ_{n+1})`, `v_{n+1} = (w_{n+1} − wₙ)/Δt`.
+//!
+//! First order and dissipative: multiplying by `U_{n+1} − Uₙ` gives
+//! `E_{n+1} − Eₙ = −½‖v_{n+1} − vₙ‖²_M − ½‖U_{n+1} − Uₙ‖²_K − λ_{n+1}·gₙ ≤ 0`
+//! (the contact force only works on a gap that closes). Hairer & Wanner, Solving ODEs II.
+
+use super::implicit::ContactStep;
+use super::stepper::{time_step, Stepper};
+use super::{Integrator, Scheme, State, StepInfo};
+use crate::contact;
+use crate::error::Result;
+use crate::problem::Problem;
+
+/// Backward Euler (no parameter).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BackwardEuler;
+
+impl Scheme for BackwardEuler {
+    fn name(&self) -> &'static str {
+        "backward_euler"
+    }
+
+    fn parameters(&self) -> String {
+        String::new()
+    }
+
+    fn prepare<'p>(
+        &self,
+        problem: &'p Problem,
+        dt: f64,
+        contact: Box<dyn contact::Solver>,
+    ) -> Result<Box<dyn Integrator + 'p>> {
+        let dt = time_step(problem, dt)?;
+        let system = ContactStep::new(problem, (1.0, dt * dt), dt * dt, contact)?;
+        let s = Stepper::new(problem, dt, system)?;
+        Ok(Box::new(BackwardEulerIntegrator {
+            y: vec![0.0; s.w.len()],
+            s,
+        }))
+    }
+}
+
+struct BackwardEulerIntegrator<'p> {
+    s: Stepper<'p>,
+    /// `wₙ + Δt vₙ`.
+    y: Vec<f64>,
+}
+
+impl Integrator for BackwardEulerIntegrator<'_> {
+    fn step(&mut self) -> Result<StepInfo> {
+        let dt = self.s.dt;
+        for ((y, w), v) in self.y.iter_mut().zip(&self.s.w).zip(&self.s.v) {
+            *y = w + dt * v;
+        }
+        self.s.rhs_from_load(dt * dt);
+        self.s
+            .problem
+            .inertia
+            .apply_add(&mut self.s.rhs, &self.y, 1.0);
+        let info = self.s.solve_position()?;
+        // v_{n+1} = (w_{n+1} − wₙ)/Δt = vₙ + (w_{n+1} − y)/Δt.
+        for ((v, w), y) in self.s.v.iter_mut().zip(&self.s.w).zip(&self.y) {
+            *v += (w - y) / dt;
+        }
+        self.s.finish(info)
+    }
+
+    fn state(&self) -> State<'_> {
+        self.s.state(&self.s.u)
+    }
+}

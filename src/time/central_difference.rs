@@ -1,0 +1,264 @@
+//! Explicit central difference with the contact law at t_{n+1} (Carpenter, Taylor, Katona 1991,
+//! forward-increment Lagrange multipliers):
+//!
+//! `M (U_{n+1} − 2Uₙ + U_{n−1})/Δt² + K Uₙ = F − B_Nᵀ λ_{n+1}` on the dofs with mass (R),
+//! `K_SS U_{n+1,S} + K_SR U_{n+1,R} = F_S − (B_Nᵀ λ_{n+1})_S` on the massless dofs S (their rows of M
+//! are zero, e.g. the contact dofs under mass redistribution): quasi-static, solved with the
+//! contact law once the massive dofs are known. The step matrix `A = M + Δt² K_SS` is block
+//! diagonal and factored once (for a lumped mass it is diagonal).
+//!
+//! Stable for `Δt ≤ 2/ω_max`, `ω²_max = λ_max(K_RR, M_RR)` (an upper bound of the condensed
+//! problem's, so the limit is safe), estimated before the run by a power iteration with the
+//! Rayleigh quotient; a Δt above [`CFL_SAFETY`] times that limit is an "unstable time step" error. Needs a sparse mass
+//! (standard, lumped, mass_redistribution, mass_elimination) and contact dofs that are all massive
+//! or all massless. Reports the half-step velocity and the midpoint energy like
+//! [`super::paoli_schatzman`].
+
+use super::implicit::ContactStep;
+use super::stepper::{time_step, Stepper, ThreeLevel};
+use super::{Integrator, Scheme, State, StepInfo};
+use crate::contact;
+use crate::error::{Error, Result};
+use crate::linalg::{self, SpMat, TripletBuilder};
+use crate::problem::{Inertia, Problem};
+
+/// Power iterations of the CFL estimate (the Rayleigh quotient converges from below).
+pub const CFL_ITERATIONS: usize = 300;
+/// Safety factor on the estimated limit (the Rayleigh quotient underestimates ω²_max slightly).
+pub const CFL_SAFETY: f64 = 0.99;
+
+/// Explicit central difference (no parameter).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CentralDifference;
+
+impl Scheme for CentralDifference {
+    fn name(&self) -> &'static str {
+        "central_difference"
+    }
+
+    fn parameters(&self) -> String {
+        String::new()
+    }
+
+    fn prepare<'p>(
+        &self,
+        problem: &'p Problem,
+        dt: f64,
+        contact: Box<dyn contact::Solver>,
+    ) -> Result<Box<dyn Integrator + 'p>> {
+        let dt = time_step(problem, dt)?;
+        let Inertia::Sparse { m } = &problem.inertia else {
+            return Err(Error::Unsupported(
+                "central_difference needs a sparse mass matrix (standard, lumped, \
+                 mass_redistribution or mass_elimination), not singular_dynamic"
+                    .into(),
+            ));
+        };
+        let massless = massless_dofs(m);
+        check_contact_dofs(problem, &massless)?;
+        let k_ss = restrict(&problem.k, &massless)?;
+        let mut system =
+            ContactStep::with_stiffness(problem, &k_ss, (1.0, dt * dt), dt * dt, contact)?;
+        let dt_max = CFL_SAFETY * critical_time_step(problem, &mut system, &massless);
+        if dt > dt_max {
+            return Err(Error::invalid(
+                "dt",
+                dt,
+                &format!(
+                    "unstable time step: central_difference needs dt ≤ {CFL_SAFETY}·2/ω_max = \
+                     {dt_max:.6e} (CFL limit of this mesh and mass)"
+                ),
+            ));
+        }
+        let levels = ThreeLevel::start(problem, dt)?;
+        let s = Stepper::new(problem, dt, system)?;
+        let n = problem.n();
+        Ok(Box::new(CentralDifferenceIntegrator {
+            quasi_static: massless.iter().any(|&b| b),
+            massless,
+            levels,
+            u_new: vec![0.0; n],
+            w_new: vec![0.0; n],
+            scratch: vec![0.0; n],
+            s,
+        }))
+    }
+}
+
+/// Dofs whose row of M is zero.
+fn massless_dofs(m: &SpMat) -> Vec<bool> {
+    let mut massless = vec![true; m.nrows()];
+    for (i, _, v) in linalg::triplets(m) {
+        if v != 0.0 {
+            massless[i] = false;
+        }
+    }
+    massless
+}
+
+/// Contact dofs must be all massive or all massless (otherwise λ couples the two stages).
+fn check_contact_dofs(problem: &Problem, massless: &[bool]) -> Result<()> {
+    let kinds: Vec<bool> = linalg::triplets(&problem.contact.b_n)
+        .map(|(_, j, _)| massless[j])
+        .collect();
+    let any_massless = massless.iter().any(|&b| b);
+    let ok = if any_massless {
+        kinds.iter().all(|&b| b)
+    } else {
+        true
+    };
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::Unsupported(
+            "central_difference: the mass has massless dofs but some contact dofs carry mass"
+                .into(),
+        ))
+    }
+}
+
+/// `K_SS` embedded in an n × n matrix (zero outside the massless block).
+fn restrict(k: &SpMat, massless: &[bool]) -> Result<SpMat> {
+    let mut t = TripletBuilder::new(k.nrows(), k.ncols());
+    for (i, j, v) in linalg::triplets(k) {
+        if massless[i] && massless[j] {
+            t.add(i, j, v);
+        }
+    }
+    t.build()
+}
+
+/// `2/ω_max` with `ω²_max` the largest eigenvalue of `(K_RR, M_RR)`, by power iteration
+/// `x ← M_RR⁻¹ K_RR x` (the R block of A⁻¹ is `M_RR⁻¹`) and its Rayleigh quotient.
+fn critical_time_step(problem: &Problem, system: &mut ContactStep, massless: &[bool]) -> f64 {
+    let n = problem.n();
+    let Inertia::Sparse { m } = &problem.inertia else {
+        return f64::INFINITY;
+    };
+    // A deterministic start with every mode present.
+    let mut x: Vec<f64> = (0..n)
+        .map(|i| {
+            if massless[i] {
+                0.0
+            } else {
+                1.0 + ((i * 7919) % 13) as f64 / 13.0
+            }
+        })
+        .collect();
+    let (mut kx, mut w) = (vec![0.0; n], vec![0.0; n]);
+    let mut omega2 = 0.0;
+    for _ in 0..CFL_ITERATIONS {
+        kx.fill(0.0);
+        linalg::mul_add(&mut kx, &problem.k, &x, 1.0);
+        let mx = linalg::quad(m, &x, &x);
+        if mx <= 0.0 {
+            return f64::INFINITY;
+        }
+        omega2 = f64::max(omega2, linalg::dot(&x, &kx) / mx);
+        for (k, &s) in kx.iter_mut().zip(massless) {
+            if s {
+                *k = 0.0;
+            }
+        }
+        system.solve_free(&kx, &mut x, &mut w);
+        for (xi, &s) in x.iter_mut().zip(massless) {
+            if s {
+                *xi = 0.0;
+            }
+        }
+        let norm = linalg::dot(&x, &x).sqrt();
+        if norm == 0.0 || !norm.is_finite() {
+            break;
+        }
+        x.iter_mut().for_each(|v| *v /= norm);
+    }
+    if omega2 > 0.0 {
+        2.0 / omega2.sqrt()
+    } else {
+        f64::INFINITY
+    }
+}
+
+struct CentralDifferenceIntegrator<'p> {
+    s: Stepper<'p>,
+    massless: Vec<bool>,
+    quasi_static: bool,
+    levels: ThreeLevel,
+    u_new: Vec<f64>,
+    w_new: Vec<f64>,
+    scratch: Vec<f64>,
+}
+
+impl CentralDifferenceIntegrator<'_> {
+    /// `r_R = M (2Uₙ − U_{n−1}) + Δt² (F − K Uₙ)`, `r_S = 0`.
+    fn explicit_rhs(&mut self) {
+        let dt = self.s.dt;
+        for ((y, u), up) in self
+            .scratch
+            .iter_mut()
+            .zip(&self.s.u)
+            .zip(&self.levels.u_prev)
+        {
+            *y = 2.0 * u - up;
+        }
+        self.s.rhs_from_load(dt * dt);
+        linalg::mul_add(&mut self.s.rhs, &self.s.problem.k, &self.s.u, -dt * dt);
+        self.s
+            .problem
+            .inertia
+            .apply_add(&mut self.s.rhs, &self.scratch, 1.0);
+        self.zero_massless_rhs();
+    }
+
+    fn zero_massless_rhs(&mut self) {
+        for (r, &s) in self.s.rhs.iter_mut().zip(&self.massless) {
+            if s {
+                *r = 0.0;
+            }
+        }
+    }
+
+    /// `r_S = Δt² (F_S − K_SR U_{n+1,R})` from the massive part of the free solve.
+    fn quasi_static_rhs(&mut self) {
+        let dt = self.s.dt;
+        self.s
+            .system
+            .solve_free(&self.s.rhs, &mut self.u_new, &mut self.w_new);
+        for (u, &s) in self.u_new.iter_mut().zip(&self.massless) {
+            if s {
+                *u = 0.0;
+            }
+        }
+        self.scratch.fill(0.0);
+        linalg::mul_add(&mut self.scratch, &self.s.problem.k, &self.u_new, 1.0);
+        for i in 0..self.s.rhs.len() {
+            if self.massless[i] {
+                self.s.rhs[i] = dt * dt * (self.s.problem.f[i] - self.scratch[i]);
+            }
+        }
+    }
+}
+
+impl Integrator for CentralDifferenceIntegrator<'_> {
+    fn step(&mut self) -> Result<StepInfo> {
+        self.explicit_rhs();
+        if self.quasi_static {
+            self.quasi_static_rhs();
+        }
+        let at = self.s.next();
+        let info = self.s.system.solve(
+            self.s.problem,
+            (&self.s.rhs, &self.s.problem.contact.g0),
+            (&mut self.u_new, &mut self.w_new),
+            &mut self.s.lambda,
+            at,
+        )?;
+        self.levels
+            .rotate(&mut self.s, &mut self.u_new, &mut self.w_new);
+        self.s.finish(info)
+    }
+
+    fn state(&self) -> State<'_> {
+        self.s.state(&self.levels.midpoint)
+    }
+}

@@ -1,0 +1,135 @@
+//! Moreau–Jean time-stepping (Moreau 1988, Jean 1999; Acary & Brogliato 2008, §10.1): a θ-method
+//! on the velocities with a velocity-level Signorini law and Newton's restitution e:
+//!
+//! - `M (V_{n+1} − Vₙ) = Δt (F − K U_{n+θ}) − B_Nᵀ P_{n+1}`, `U_{n+θ} = (1 − θ) Uₙ + θ U_{n+1}`,
+//!   `U_{n+1} = Uₙ + Δt ((1 − θ) Vₙ + θ V_{n+1})`, i.e.
+//!   `(M + θ² Δt² K) V_{n+1} = M Vₙ + Δt (F − K Uₙ) − θ (1 − θ) Δt² K Vₙ − B_Nᵀ P_{n+1}`;
+//! - index set `𝒜 = {i : g_i(Uₙ + ½ Δt Vₙ) ≤ 0}` (points predicted closed at mid-step);
+//! - on 𝒜: `0 ≤ P_i ⊥ (ġ_{n+1} + e ġₙ)_i ≥ 0` with `ġ = −B_N V`; off 𝒜: `P_i = 0`.
+//!
+//! P is an impulse; the reported pressure is `λ = P/Δt`. First order with impacts; θ = ½ and e = 1
+//! conserve the energy `½ V·MV + ½ UᵀKU − FᵀU` exactly (the impulse does no work when
+//! `ġ_{n+1} = −ġₙ`). Penetration is O(Δt), not zero: the law holds on velocities. With the
+//! singular dynamic method the inertial variable is the H_h velocity `C⁻¹ B V`.
+
+use super::implicit::ContactStep;
+use super::stepper::{time_step, Stepper};
+use super::{Integrator, Scheme, State, StepInfo};
+use crate::contact;
+use crate::error::{in_range, Result};
+use crate::linalg;
+use crate::problem::Problem;
+
+/// θ ∈ [½, 1] and restitution e ∈ [0, 1].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MoreauJean {
+    /// θ (½: midpoint, 1: implicit Euler on velocities).
+    pub theta: f64,
+    /// Newton restitution coefficient e.
+    pub restitution: f64,
+}
+
+impl MoreauJean {
+    /// Validated parameters.
+    pub fn new(theta: f64, restitution: f64) -> Result<Self> {
+        in_range("theta", theta, 0.5, 1.0)?;
+        in_range("restitution", restitution, 0.0, 1.0)?;
+        Ok(Self { theta, restitution })
+    }
+}
+
+impl Scheme for MoreauJean {
+    fn name(&self) -> &'static str {
+        "moreau_jean"
+    }
+
+    fn parameters(&self) -> String {
+        format!("theta={};restitution={}", self.theta, self.restitution)
+    }
+
+    fn prepare<'p>(
+        &self,
+        problem: &'p Problem,
+        dt: f64,
+        contact: Box<dyn contact::Solver>,
+    ) -> Result<Box<dyn Integrator + 'p>> {
+        let dt = time_step(problem, dt)?;
+        let th = self.theta * dt;
+        let system = ContactStep::new(problem, (1.0, th * th), 1.0, contact)?;
+        let s = Stepper::new(problem, dt, system)?;
+        let nc = problem.contact.len();
+        Ok(Box::new(MoreauJeanIntegrator {
+            p: *self,
+            vel: problem.v0.clone(),
+            scratch: vec![0.0; problem.n()],
+            offset: vec![0.0; nc],
+            normal_velocity: vec![0.0; nc],
+            impulse: vec![0.0; nc],
+            s,
+        }))
+    }
+}
+
+struct MoreauJeanIntegrator<'p> {
+    s: Stepper<'p>,
+    p: MoreauJean,
+    /// Displacement velocity V (the Stepper's `v` is the inertial velocity).
+    vel: Vec<f64>,
+    scratch: Vec<f64>,
+    offset: Vec<f64>,
+    normal_velocity: Vec<f64>,
+    impulse: Vec<f64>,
+}
+
+impl MoreauJeanIntegrator<'_> {
+    /// Offsets of the velocity law: `−e (B_N Vₙ)_i` on the index set, `+∞` elsewhere.
+    fn index_set(&mut self) {
+        let (dt, contact) = (self.s.dt, &self.s.problem.contact);
+        for ((x, u), v) in self.scratch.iter_mut().zip(&self.s.u).zip(&self.vel) {
+            *x = u + 0.5 * dt * v;
+        }
+        contact.gap(&self.scratch, &mut self.offset);
+        self.normal_velocity.fill(0.0);
+        linalg::mul_add(&mut self.normal_velocity, &contact.b_n, &self.vel, 1.0);
+        for (o, bv) in self.offset.iter_mut().zip(&self.normal_velocity) {
+            *o = if *o <= 0.0 {
+                -self.p.restitution * bv
+            } else {
+                f64::INFINITY
+            };
+        }
+    }
+}
+
+impl Integrator for MoreauJeanIntegrator<'_> {
+    fn step(&mut self) -> Result<StepInfo> {
+        let (dt, th) = (self.s.dt, self.p.theta);
+        self.index_set();
+        let k = &self.s.problem.k;
+        self.s.rhs_from_load(dt);
+        linalg::mul_add(&mut self.s.rhs, k, &self.s.u, -dt);
+        linalg::mul_add(&mut self.s.rhs, k, &self.vel, -th * (1.0 - th) * dt * dt);
+        self.s
+            .problem
+            .inertia
+            .apply_add(&mut self.s.rhs, &self.s.v, 1.0);
+        linalg::axpy(&mut self.s.u, (1.0 - th) * dt, &self.vel);
+        let at = self.s.next();
+        let info = self.s.system.solve(
+            self.s.problem,
+            (&self.s.rhs, &self.offset),
+            (&mut self.vel, &mut self.s.v),
+            &mut self.impulse,
+            at,
+        )?;
+        linalg::axpy(&mut self.s.u, th * dt, &self.vel);
+        for (l, p) in self.s.lambda.iter_mut().zip(&self.impulse) {
+            *l = p / dt;
+        }
+        self.s.finish(info)
+    }
+
+    fn state(&self) -> State<'_> {
+        self.s.state(&self.s.u)
+    }
+}

@@ -1,0 +1,157 @@
+//! State and workspace shared by every scheme: the factored step system, the displacement, the
+//! inertial variables and the contact pressures, and the bookkeeping of one step.
+
+use super::implicit::ContactStep;
+use super::{check_finite, State, StepInfo};
+use crate::contact::SolveInfo;
+use crate::error::{positive, Error, Result};
+use crate::linalg;
+use crate::problem::Problem;
+
+/// The common part of every integrator.
+pub(crate) struct Stepper<'p> {
+    pub problem: &'p Problem,
+    pub system: ContactStep,
+    pub dt: f64,
+    pub step: usize,
+    /// Displacement U.
+    pub u: Vec<f64>,
+    /// Inertial displacement w (U, or `C⁻¹ B U` for the mixed mass).
+    pub w: Vec<f64>,
+    /// Inertial velocity.
+    pub v: Vec<f64>,
+    /// Contact pressures (nodal forces).
+    pub lambda: Vec<f64>,
+    /// Right-hand side workspace (displacement dofs).
+    pub rhs: Vec<f64>,
+}
+
+impl<'p> Stepper<'p> {
+    /// Starts from `(U₀, V₀)` after validating the problem and `dt`.
+    pub fn new(problem: &'p Problem, dt: f64, system: ContactStep) -> Result<Self> {
+        let w = problem.inertia.project(&problem.u0)?;
+        let v = problem.inertia.project(&problem.v0)?;
+        if w.iter().chain(&v).any(|x| !x.is_finite()) {
+            return Err(Error::invalid(
+                "initial state",
+                "NaN",
+                "initial data must be finite",
+            ));
+        }
+        Ok(Self {
+            problem,
+            system,
+            dt,
+            step: 0,
+            u: problem.u0.clone(),
+            w,
+            v,
+            lambda: vec![0.0; problem.contact.len()],
+            rhs: vec![0.0; problem.n()],
+        })
+    }
+
+    /// `(step, time)` of the level being computed (for error messages).
+    pub fn next(&self) -> (usize, f64) {
+        (self.step + 1, (self.step + 1) as f64 * self.dt)
+    }
+
+    /// `rhs = scale · F` (start of every right-hand side).
+    pub fn rhs_from_load(&mut self, scale: f64) {
+        let f = &self.problem.f;
+        self.rhs.iter_mut().zip(f).for_each(|(r, f)| *r = scale * f);
+    }
+
+    /// Solves `A (U, w) = rhs − c B_Nᵀ λ` with the Signorini law on the new gap `g₀ − B_N U`.
+    pub fn solve_position(&mut self) -> Result<SolveInfo> {
+        let at = self.next();
+        self.system.solve(
+            self.problem,
+            (&self.rhs, &self.problem.contact.g0),
+            (&mut self.u, &mut self.w),
+            &mut self.lambda,
+            at,
+        )
+    }
+
+    /// Ends a step: advances the counter and checks that the state is finite.
+    pub fn finish(&mut self, info: SolveInfo) -> Result<StepInfo> {
+        self.step += 1;
+        let t = self.step as f64 * self.dt;
+        check_finite(&self.u, self.step, t, "displacement")?;
+        check_finite(&self.v, self.step, t, "velocity")?;
+        check_finite(&self.lambda, self.step, t, "contact pressure")?;
+        Ok(StepInfo {
+            contact_iterations: info.iterations,
+            active: info.active,
+        })
+    }
+
+    /// The state, with the scheme's energy displacement.
+    pub fn state<'a>(&'a self, energy_u: &'a [f64]) -> State<'a> {
+        State {
+            t: self.step as f64 * self.dt,
+            step: self.step,
+            u: &self.u,
+            v: &self.v,
+            energy_u,
+            lambda: &self.lambda,
+        }
+    }
+}
+
+/// Validated time step.
+pub(crate) fn time_step(problem: &Problem, dt: f64) -> Result<f64> {
+    problem.validate()?;
+    positive("dt", dt)
+}
+
+/// The Galerkin acceleration at t = 0 from `M A₀ = F − K U₀` (no contact force).
+pub(crate) fn initial_acceleration(problem: &Problem) -> Result<Vec<f64>> {
+    let mut r = problem.f.clone();
+    linalg::mul_add(&mut r, &problem.k, &problem.u0, -1.0);
+    problem.inertia.acceleration(&r)
+}
+
+/// Levels n − 1, the midpoint displacement and the half-step velocity of the three-level schemes
+/// (Paoli–Schatzman, central difference), started from the Taylor value
+/// `U₋₁ = U₀ − Δt V₀ + ½ Δt² A₀`.
+pub(crate) struct ThreeLevel {
+    /// `U_{n−1}`.
+    pub u_prev: Vec<f64>,
+    /// Inertial `w_{n−1}`.
+    pub w_prev: Vec<f64>,
+    /// `(U_n + U_{n−1})/2` after a step (U₀ at the start).
+    pub midpoint: Vec<f64>,
+}
+
+impl ThreeLevel {
+    /// The fictitious level −1.
+    pub fn start(problem: &Problem, dt: f64) -> Result<Self> {
+        let a = initial_acceleration(problem)?;
+        let u_prev: Vec<f64> = (0..problem.n())
+            .map(|i| problem.u0[i] - dt * problem.v0[i] + 0.5 * dt * dt * a[i])
+            .collect();
+        Ok(Self {
+            w_prev: problem.inertia.project(&u_prev)?,
+            u_prev,
+            midpoint: problem.u0.clone(),
+        })
+    }
+
+    /// Moves to the next level: `(u_new, w_new)` becomes the current level (the old current level
+    /// becomes n − 1 and the buffers receive the old n − 1, free for reuse); updates the
+    /// half-step velocity `v = (w_{n+1} − w_n)/Δt` and the midpoint.
+    pub fn rotate(&mut self, s: &mut Stepper, u_new: &mut Vec<f64>, w_new: &mut Vec<f64>) {
+        std::mem::swap(&mut self.u_prev, &mut s.u);
+        std::mem::swap(&mut s.u, u_new);
+        std::mem::swap(&mut self.w_prev, &mut s.w);
+        std::mem::swap(&mut s.w, w_new);
+        for ((v, w), wp) in s.v.iter_mut().zip(&s.w).zip(&self.w_prev) {
+            *v = (w - wp) / s.dt;
+        }
+        for ((m, u), up) in self.midpoint.iter_mut().zip(&s.u).zip(&self.u_prev) {
+            *m = 0.5 * (u + up);
+        }
+    }
+}

@@ -1,0 +1,72 @@
+//! Contact solvers on random LCPs: the exact active-set solver and Clarabel's QP agree to 1e-8,
+//! and every solver's output satisfies its complementarity conditions.
+
+use dyncontact::contact::{by_name, check_solution};
+use nalgebra::DMatrix;
+use proptest::prelude::*;
+
+/// A random SPD matrix `GᵀG/n + 0.1 I` (eigenvalues ≥ 0.1, moderate condition number).
+fn spd(n: usize, g: &[f64]) -> DMatrix<f64> {
+    let g = DMatrix::from_column_slice(n, n, &g[..n * n]);
+    g.transpose() * &g / n as f64 + DMatrix::identity(n, n) * 0.1
+}
+
+fn lcp() -> impl Strategy<Value = (DMatrix<f64>, Vec<f64>)> {
+    (1usize..12).prop_flat_map(|n| {
+        (
+            prop::collection::vec(-1.0f64..1.0, n * n),
+            prop::collection::vec(-1.0f64..1.0, n),
+        )
+            .prop_map(move |(g, q)| (spd(n, &g), q))
+    })
+}
+
+fn solve(name: &str, d: &DMatrix<f64>, q: &[f64]) -> Vec<f64> {
+    let mut lambda = vec![0.0; q.len()];
+    by_name(name, q.len(), 1e-3)
+        .unwrap()
+        .solve(d, q, &mut lambda)
+        .unwrap();
+    lambda
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn active_set_and_clarabel_agree((d, q) in lcp()) {
+        let exact = solve("active_set", &d, &q);
+        let qp = solve("clarabel", &d, &q);
+        check_solution(&d, &q, &exact, 1e-12).map_err(TestCaseError::fail)?;
+        check_solution(&d, &q, &qp, 1e-8).map_err(TestCaseError::fail)?;
+        for (a, b) in exact.iter().zip(&qp) {
+            prop_assert!((a - b).abs() <= 1e-8, "active_set {a} vs clarabel {b}");
+        }
+    }
+
+    /// Penalty: λ ≥ 0, and it solves the regularised LCP (D + εI), so g = −ελ ≥ −ε max λ.
+    #[test]
+    fn penalty_is_the_regularised_lcp((d, q) in lcp()) {
+        let lambda = solve("penalty", &d, &q);
+        let eps = 1e-3 * (0..q.len()).map(|i| d[(i, i)]).fold(0.0, f64::max);
+        let reg = &d + DMatrix::identity(q.len(), q.len()) * eps;
+        check_solution(&reg, &q, &lambda, 1e-12).map_err(TestCaseError::fail)?;
+        let lmax = lambda.iter().copied().fold(0.0, f64::max);
+        for i in 0..q.len() {
+            let g = q[i] + (0..q.len()).map(|j| d[(i, j)] * lambda[j]).sum::<f64>();
+            prop_assert!(lambda[i] >= 0.0 && g >= -eps * lmax - 1e-12);
+        }
+    }
+
+    /// Points with q = +∞ are excluded (λ = 0) by every solver; the others are unaffected.
+    #[test]
+    fn excluded_points_get_no_pressure((d, mut q) in lcp()) {
+        q[0] = f64::INFINITY;
+        for name in ["active_set", "clarabel", "penalty"] {
+            let lambda = solve(name, &d, &q);
+            prop_assert_eq!(lambda[0], 0.0);
+        }
+        let exact = solve("active_set", &d, &q);
+        check_solution(&d, &q, &exact, 1e-12).map_err(TestCaseError::fail)?;
+    }
+}
