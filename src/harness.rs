@@ -8,7 +8,6 @@
 use crate::cases::{self, sweep::Refinement, sweep::SchemeChoice, Case};
 use crate::error::{Error, Result};
 use crate::metrics::Metrics;
-use crate::report::fit_order;
 use crate::run::{self, RunResult, Summary};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
@@ -51,6 +50,18 @@ pub enum Status {
 }
 
 impl Status {
+    /// The status called `name` (as written by [`Status::as_str`]).
+    pub fn parse(name: &str) -> Option<Self> {
+        [
+            Status::Ok,
+            Status::Diverged,
+            Status::Failed,
+            Status::Unsupported,
+        ]
+        .into_iter()
+        .find(|s| s.as_str() == name)
+    }
+
     /// Name written to CSV.
     pub fn as_str(&self) -> &'static str {
         match self {
@@ -209,159 +220,4 @@ fn failed_summary(job: &Job, case: Option<&dyn Case>) -> Summary {
         wall_time: 0.0,
         metrics: Metrics::unavailable(),
     }
-}
-
-/// Columns of `records.csv` before the summary columns.
-pub const RECORD_COLUMNS: &[&str] = &["sweep", "level", "status", "reason"];
-
-/// Writes `records.csv`: [`RECORD_COLUMNS`] then `summary.csv`'s columns.
-pub fn write_records(path: &Path, records: &[RunRecord]) -> Result<()> {
-    let mut header = RECORD_COLUMNS.to_vec();
-    header.extend_from_slice(crate::output::csv::SUMMARY_COLUMNS);
-    crate::output::csv::write_rows(
-        path,
-        &header,
-        records.iter().map(|r| {
-            let mut v = vec![
-                r.sweep.clone(),
-                r.level.to_string(),
-                r.status.as_str().to_string(),
-                r.reason.clone(),
-            ];
-            v.extend(crate::output::csv::summary_record(&r.summary));
-            v
-        }),
-    )
-}
-
-/// Quantities whose observed orders are fitted, with their accessor.
-pub type Quantity = (&'static str, fn(&Metrics) -> Option<f64>);
-
-/// The fitted quantities: displacement, energy, contact stress and impact time errors.
-pub const QUANTITIES: [Quantity; 6] = [
-    ("err_u_linf_l2", |m| m.err_u_linf_l2),
-    ("err_u_contact", |m| m.err_u_contact),
-    ("err_u_l2_h1", |m| m.err_u_l2_h1),
-    ("err_energy", |m| m.err_energy),
-    ("err_sigma_l2", |m| m.err_sigma_l2),
-    ("impact_time_err", |m| m.impact_time_err),
-];
-
-/// Expected order from the literature / theory, where known (`shared/reference/methods.md`).
-pub fn literature(case: &str, quantity: &str) -> &'static str {
-    match (case, quantity) {
-        ("bar1d", "err_u_linf_l2" | "err_u_contact") => "1",
-        ("bar1d", "err_u_l2_h1" | "err_energy" | "err_sigma_l2") => "1/3-1/2",
-        _ => "",
-    }
-}
-
-/// One row of `orders.csv`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Order {
-    /// Case kind.
-    pub case: String,
-    /// Sweep name.
-    pub sweep: String,
-    /// Space.
-    pub space: String,
-    /// Scheme.
-    pub scheme: String,
-    /// Scheme parameters.
-    pub parameters: String,
-    /// Quantity name.
-    pub quantity: &'static str,
-    /// Least-squares slope of log(error) against log(h) (log(dt) for 0D cases) and the RMS
-    /// residual of the fit; None with fewer than two usable levels.
-    pub fit: Option<(f64, f64)>,
-    /// Levels used (status ok, error finite and > 0).
-    pub points: usize,
-}
-
-/// Observed orders per case × sweep × space × scheme × quantity, in record order.
-pub fn orders(records: &[RunRecord]) -> Vec<Order> {
-    let key = |r: &RunRecord| {
-        (
-            r.summary.case.clone(),
-            r.sweep.clone(),
-            r.summary.space.clone(),
-            r.summary.scheme.clone(),
-            r.summary.parameters.clone(),
-        )
-    };
-    let mut groups: Vec<(_, Vec<&RunRecord>)> = Vec::new();
-    for r in records {
-        let k = key(r);
-        match groups.iter_mut().find(|(g, _)| *g == k) {
-            Some((_, v)) => v.push(r),
-            None => groups.push((k, vec![r])),
-        }
-    }
-    let mut out = Vec::new();
-    for ((case, sweep, space, scheme, parameters), runs) in groups {
-        for (quantity, get) in QUANTITIES {
-            let pts: Vec<(f64, f64)> = runs
-                .iter()
-                .filter(|r| r.status == Status::Ok)
-                .filter_map(|r| {
-                    let s = &r.summary;
-                    let x = if s.h.is_finite() { s.h } else { s.dt };
-                    get(&s.metrics)
-                        .filter(|e| e.is_finite() && *e > 0.0)
-                        .map(|e| (x, e))
-                })
-                .collect();
-            if runs.iter().all(|r| get(&r.summary.metrics).is_none()) {
-                continue;
-            }
-            let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
-            out.push(Order {
-                case: case.clone(),
-                sweep: sweep.clone(),
-                space: space.clone(),
-                scheme: scheme.clone(),
-                parameters: parameters.clone(),
-                quantity,
-                fit: (pts.len() >= 2).then(|| fit_order(&x, &y)),
-                points: pts.len(),
-            });
-        }
-    }
-    out
-}
-
-/// Columns of `orders.csv`.
-pub const ORDER_COLUMNS: &[&str] = &[
-    "case",
-    "sweep",
-    "space",
-    "scheme",
-    "parameters",
-    "quantity",
-    "order",
-    "fit_residual",
-    "points",
-    "literature",
-];
-
-/// Writes `orders.csv` (orders and residuals with 4 decimals).
-pub fn write_orders(path: &Path, orders: &[Order]) -> Result<()> {
-    crate::output::csv::write_rows(
-        path,
-        ORDER_COLUMNS,
-        orders.iter().map(|o| {
-            vec![
-                o.case.clone(),
-                o.sweep.clone(),
-                o.space.clone(),
-                o.scheme.clone(),
-                o.parameters.clone(),
-                o.quantity.to_string(),
-                o.fit.map_or_else(String::new, |f| format!("{:.4}", f.0)),
-                o.fit.map_or_else(String::new, |f| format!("{:.4}", f.1)),
-                o.points.to_string(),
-                literature(&o.case, o.quantity).to_string(),
-            ]
-        }),
-    )
 }

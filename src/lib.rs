@@ -15,6 +15,7 @@ pub mod harness;
 pub mod linalg;
 pub mod mesh;
 pub mod metrics;
+pub mod orders;
 pub mod output;
 pub mod problem;
 pub mod report;

@@ -24,14 +24,27 @@ enum Command {
         #[arg(default_value = "cases")]
         dir: PathBuf,
     },
-    /// Run the bar1d convergence study and the spring-mass table; write CSVs, PNGs and index.md.
+    /// Run every [[sweep]] of the case files; write summary.csv, timings.csv, orders.csv, PNGs,
+    /// index.md and index.html.
     Report {
         /// Output directory.
         #[arg(long, default_value = "reports")]
         out: PathBuf,
-        /// Directory of the case files (bar1d.toml, spring_mass.toml).
+        /// Directory of the case files.
         #[arg(long, default_value = "cases")]
         cases: PathBuf,
+        /// Only the first `quick_levels` levels of every sweep (under a minute).
+        #[arg(long)]
+        quick: bool,
+    },
+    /// Join record files of `sweep --shard i/n` runs into a report (no time histories).
+    Merge {
+        /// records-*.csv files.
+        #[arg(required = true)]
+        records: Vec<PathBuf>,
+        /// Output directory.
+        #[arg(long, default_value = "reports")]
+        out: PathBuf,
     },
     /// Run the [[sweep]] tables of case files in parallel; write records.csv and orders.csv.
     Sweep {
@@ -147,7 +160,7 @@ fn sweep(cases: &[PathBuf], out: &Path, quick: bool, shard: Option<(usize, usize
     let name = shard.map_or("records.csv".to_string(), |(i, n)| {
         format!("records-{i}-of-{n}.csv")
     });
-    harness::write_records(&out.join(&name), &records)?;
+    dyncontact::output::records::write_records(&out.join(&name), &records, true)?;
     let failed = records
         .iter()
         .filter(|r| r.status != harness::Status::Ok)
@@ -158,7 +171,8 @@ fn sweep(cases: &[PathBuf], out: &Path, quick: bool, shard: Option<(usize, usize
         records.len()
     );
     if shard.is_none() {
-        harness::write_orders(&out.join("orders.csv"), &harness::orders(&records))?;
+        let orders = dyncontact::orders::orders(&records);
+        dyncontact::orders::write_orders(&out.join("orders.csv"), &orders)?;
         println!("wrote {}/orders.csv", out.display());
     }
     Ok(())
@@ -173,9 +187,26 @@ fn main_result(cli: Cli) -> Result<()> {
             quick,
             shard,
         } => sweep(&cases, &out, quick, shard),
-        Command::Report { out, cases } => {
-            dyncontact::report::report(&cases, &out, &mut |msg| eprintln!("running {msg}"))?;
-            println!("wrote {}/index.md", out.display());
+        Command::Report { out, cases, quick } => {
+            let opts = dyncontact::report::Options {
+                quick,
+                progress: true,
+            };
+            let records = dyncontact::report::report(&cases, &out, opts)?;
+            println!(
+                "{} runs; wrote {}/index.md and index.html",
+                records.len(),
+                out.display()
+            );
+            Ok(())
+        }
+        Command::Merge { records, out } => {
+            let records = dyncontact::report::merge(&records, &out)?;
+            println!(
+                "{} runs merged; wrote {}/index.md and index.html",
+                records.len(),
+                out.display()
+            );
             Ok(())
         }
         Command::Run {

@@ -1,239 +1,376 @@
-//! `dyncontact report`: the bar1d convergence study for every space × Newmark variant, the
-//! spring–mass restitution table, and the figures, written to one directory with an `index.md`.
+//! `dyncontact report`: runs every `[[sweep]]` of the case files (the [`crate::harness`]) and
+//! writes, into one directory:
+//! - `summary.csv` (one row per run, deterministic), `timings.csv` (wall times), `orders.csv`;
+//! - convergence PNGs per case × sweep × quantity (one series per space for the sweep's first
+//!   scheme, one series per scheme for the reference space), each with a slope triangle;
+//! - energy and contact stress against time for every case;
+//! - `index.md` and `index.html` listing every figure and table with one sentence each.
 //!
-//! bar1d: h = 1/20 … 1/320 with dt = h/2, T = 12 (P1; singular_dynamic P2/P1). Observed orders are
-//! least-squares slopes of log(error) against log(h), with the RMS residual of the fit.
+//! `dyncontact merge` rebuilds the same files (without the time histories, which need the time
+//! series) from record files written by `dyncontact sweep --shard i/n`.
 
-use crate::cases::bar1d::Bar1d;
-use crate::cases::{self, Case, Overrides, RunSpec};
+use crate::cases::{self, Case};
 use crate::error::{Error, Result};
-use crate::output::csv::{summary_record, SUMMARY_COLUMNS};
-use crate::output::plot::{loglog_plot, time_plot, Series, PALETTE};
+use crate::harness::{self, RunRecord, Status};
+use crate::orders::{self, reference_slope, Order};
+use crate::output::plot::{loglog_plot, time_plot, LogLog, Series, PALETTE};
+use crate::output::records::{write_records, write_timings};
 use crate::run::{run, RunResult, Summary};
-use crate::space::SPACES;
-use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// Refinement levels of the bar convergence study (elements).
-pub const LEVELS: [usize; 5] = [20, 40, 80, 160, 320];
-/// Newmark (β, γ) variants of the study.
-pub const NEWMARK: [(f64, f64); 2] = [(0.5, 0.5), (0.25, 0.5)];
+/// A figure of the report: file name (in the output directory) and what it shows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    /// File name.
+    pub file: String,
+    /// One sentence on what it shows.
+    pub caption: String,
+}
 
-/// The quantities whose orders are reported, with their accessor.
-type Quantity = (&'static str, fn(&Summary) -> Option<f64>);
-const QUANTITIES: [Quantity; 5] = [
-    ("err_u_linf_l2", |s| s.metrics.err_u_linf_l2),
-    ("err_u_contact", |s| s.metrics.err_u_contact),
-    ("err_u_l2_h1", |s| s.metrics.err_u_l2_h1),
-    ("err_energy", |s| s.metrics.err_energy),
-    ("err_sigma_l2", |s| s.metrics.err_sigma_l2),
+/// Report settings.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Options {
+    /// Only the first `quick_levels` levels of every sweep.
+    pub quick: bool,
+    /// Progress bar on the terminal.
+    pub progress: bool,
+}
+
+/// Case files with `[[sweep]]` tables in `dir`, sorted by name.
+pub fn case_files(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| Error::io(dir, e))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    let mut out = Vec::new();
+    for f in files {
+        if !cases::load(&f, &cases::Overrides::default())?
+            .sweeps()
+            .is_empty()
+        {
+            out.push(f);
+        }
+    }
+    Ok(out)
+}
+
+/// Runs every sweep of the case files in `cases_dir` and writes the report into `out`.
+pub fn report(cases_dir: &Path, out: &Path, opts: Options) -> Result<Vec<RunRecord>> {
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let files = case_files(cases_dir)?;
+    let mut jobs = Vec::new();
+    for f in &files {
+        jobs.extend(harness::jobs(f, opts.quick)?);
+    }
+    let records = harness::run_jobs(&jobs, opts.progress);
+    let mut figures = Vec::new();
+    for f in &files {
+        figures.extend(time_histories(f, out, opts.quick)?);
+    }
+    write(out, &records, figures, opts.quick)?;
+    Ok(records)
+}
+
+/// Joins record files (from `sweep --shard`) into a report in `out` (no time histories).
+pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let mut records = Vec::new();
+    for f in files {
+        records.extend(crate::output::records::read_records(f)?);
+    }
+    write(out, &records, Vec::new(), false)?;
+    Ok(records)
+}
+
+fn write(out: &Path, records: &[RunRecord], mut figures: Vec<Figure>, quick: bool) -> Result<()> {
+    write_records(&out.join("summary.csv"), records, false)?;
+    write_timings(&out.join("timings.csv"), records)?;
+    let orders = orders::orders(records);
+    orders::write_orders(&out.join("orders.csv"), &orders)?;
+    figures.splice(0..0, convergence_figures(out, records)?);
+    crate::output::index::write_index(out, records, &orders, &figures, quick)
+}
+
+/// Plotted error quantities and their axis labels.
+const PLOTTED: [(&str, &str); 4] = [
+    ("err_u_linf_l2", "max_t ||u_h - u||_L2"),
+    ("err_energy", "max_t |E_h - E| / E"),
+    (
+        "err_sigma_l2",
+        "||sigma_h - sigma||_L2(0,T) at the contact point",
+    ),
+    ("impact_time_err", "first impact time error"),
 ];
 
-/// Least-squares slope of log(y) against log(x) and the RMS residual of the fit.
-pub fn fit_order(x: &[f64], y: &[f64]) -> (f64, f64) {
-    let lx: Vec<f64> = x.iter().map(|v| v.ln()).collect();
-    let ly: Vec<f64> = y.iter().map(|v| v.ln()).collect();
-    let n = lx.len() as f64;
-    let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
-    let sxy: f64 = lx.iter().zip(&ly).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = lx.iter().map(|a| (a - mx).powi(2)).sum();
-    let slope = sxy / sxx;
-    let res = lx
+/// The space whose schemes are compared: mass redistribution when swept, else the first space.
+fn reference_space(spaces: &[String]) -> &str {
+    spaces
         .iter()
-        .zip(&ly)
-        .map(|(a, b)| (b - my - slope * (a - mx)).powi(2))
-        .sum::<f64>();
-    (slope, (res / n).sqrt())
+        .find(|s| *s == "mass_redistribution")
+        .unwrap_or(&spaces[0])
 }
 
-fn bar_run(base: &Bar1d, space: &str, (beta, gamma): (f64, f64), n: usize) -> Result<RunResult> {
-    let degree = if space == "singular_dynamic" { 2 } else { 1 };
-    let spec = RunSpec {
-        beta,
-        gamma,
-        ..RunSpec::new(
-            space,
-            "newmark",
-            base.exact.length / (2.0 * n as f64),
-            12.0 * base.exact.length / base.exact.wave_speed(),
-        )
-    };
-    run(&Bar1d::new(base.exact, n, degree, true, spec)? as &dyn Case)
-}
-
-fn write_csv(path: &Path, header: &[&str], rows: &[Vec<String>]) -> Result<()> {
-    let mut text = header.join(",");
-    text.push('\n');
-    for r in rows {
-        text.push_str(&r.join(","));
-        text.push('\n');
-    }
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
-}
-
-/// Runs the study from the case files in `cases_dir` and writes everything into `out`.
-pub fn report(cases_dir: &Path, out: &Path, progress: &mut dyn FnMut(&str)) -> Result<()> {
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
-    let bar_path = cases_dir.join("bar1d.toml");
-    let bar_text = std::fs::read_to_string(&bar_path).map_err(|e| Error::io(&bar_path, e))?;
-    let base = Bar1d::from_spec(
-        cases::spec_from_str(&bar_text, &bar_path)?,
-        &Overrides::default(),
-    )?;
-    let mut summaries = Vec::new();
-    let mut orders = Vec::new();
-    let mut conv_series = Vec::new();
-    let mut samples: Vec<(String, RunResult)> = Vec::new();
-    for (k, space) in SPACES.iter().enumerate() {
-        for nm in NEWMARK {
-            let mut runs = Vec::new();
-            for n in LEVELS {
-                progress(&format!(
-                    "bar1d {space} newmark({}, {}) N = {n}",
-                    nm.0, nm.1
-                ));
-                let r = bar_run(&base, space, nm, n)?;
-                if n == 80 && nm == (0.5, 0.5) {
-                    samples.push((space.to_string(), r.clone()));
-                }
-                runs.push(r.summary);
-            }
-            let h: Vec<f64> = runs.iter().map(|s| s.h).collect();
-            for (name, get) in QUANTITIES {
-                let e: Vec<f64> = runs.iter().filter_map(get).collect();
-                if e.len() == h.len() && e.iter().all(|v| *v > 0.0) {
-                    let (p, res) = fit_order(&h, &e);
-                    let s = &runs[0];
-                    orders.push(vec![
-                        s.case.clone(),
-                        s.space.clone(),
-                        s.scheme.clone(),
-                        s.parameters.clone(),
-                        name.to_string(),
-                        format!("{p:.4}"),
-                        format!("{res:.4}"),
-                    ]);
-                }
-            }
-            if nm == (0.5, 0.5) {
-                let pts = runs
-                    .iter()
-                    .filter_map(|s| s.metrics.err_u_linf_l2.map(|e| (s.h, e)))
-                    .collect();
-                conv_series.push(Series::solid(*space, pts, PALETTE[k % PALETTE.len()]));
-            }
-            summaries.extend(runs);
+fn unique<T: PartialEq + Clone>(items: impl Iterator<Item = T>) -> Vec<T> {
+    let mut v: Vec<T> = Vec::new();
+    for x in items {
+        if !v.contains(&x) {
+            v.push(x);
         }
     }
-    for space in ["standard", "lumped"] {
-        for nm in NEWMARK {
-            progress(&format!("spring_mass {space} newmark({}, {})", nm.0, nm.1));
-            let o = Overrides {
-                space: Some(space.into()),
-                beta: Some(nm.0),
-                gamma: Some(nm.1),
-                ..Default::default()
-            };
-            let case = cases::load(&cases_dir.join("spring_mass.toml"), &o)?;
-            summaries.push(run(case.as_ref())?.summary);
-        }
+    v
+}
+
+fn scheme_label(s: &Summary) -> String {
+    if s.parameters.is_empty() {
+        s.scheme.clone()
+    } else {
+        format!("{} ({})", s.scheme, s.parameters.replace(';', ", "))
     }
-    let rows: Vec<Vec<String>> = summaries.iter().map(summary_record).collect();
-    write_csv(&out.join("summary.csv"), SUMMARY_COLUMNS, &rows)?;
-    write_csv(
-        &out.join("orders.csv"),
-        &[
-            "case",
-            "space",
-            "scheme",
-            "parameters",
-            "quantity",
-            "order",
-            "fit_residual",
-        ],
-        &orders,
-    )?;
-    loglog_plot(
-        &out.join("bar1d_convergence.png"),
-        "bar1d: max_t ||u_h - u||_L2, Newmark(1/2, 1/2), dt = h/2",
-        "error in u, L-inf(L2)",
-        &conv_series,
-    )?;
-    let curve = |r: &RunResult, f: fn(&crate::run::Row) -> f64| {
-        r.rows.iter().map(|x| (x.t, f(x))).collect()
-    };
-    let pick = |names: &[&str]| -> Vec<&(String, RunResult)> {
-        samples
+}
+
+/// Convergence plots of every case × sweep.
+fn convergence_figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figure>> {
+    let mut figures = Vec::new();
+    let groups = unique(
+        records
             .iter()
-            .filter(|(s, _)| names.contains(&s.as_str()))
+            .map(|r| (r.summary.case.clone(), r.sweep.clone())),
+    );
+    for (case, sweep) in groups {
+        let rs: Vec<&RunRecord> = records
+            .iter()
+            .filter(|r| r.summary.case == case && r.sweep == sweep)
+            .collect();
+        let spaces = unique(rs.iter().map(|r| r.summary.space.clone()));
+        let schemes = unique(rs.iter().map(|r| scheme_label(&r.summary)));
+        let x_label = if rs[0].summary.h.is_finite() {
+            "h"
+        } else {
+            "dt"
+        };
+        let reference = reference_space(&spaces).to_string();
+        for (quantity, y_label) in PLOTTED {
+            // The bar's first impact is a wave arrival, not a convergence measure.
+            if quantity == "impact_time_err" && x_label == "h" {
+                continue;
+            }
+            let get = orders::QUANTITIES
+                .iter()
+                .find(|q| q.0 == quantity)
+                .map(|q| q.1)
+                .expect("plotted quantities are fitted quantities");
+            let series_of = |keep: &dyn Fn(&Summary) -> bool, label: String, k: usize| {
+                let pts: Vec<(f64, f64)> = rs
+                    .iter()
+                    .filter(|r| r.status == Status::Ok && keep(&r.summary))
+                    .filter_map(|r| {
+                        let s = &r.summary;
+                        let x = if s.h.is_finite() { s.h } else { s.dt };
+                        get(&s.metrics)
+                            .filter(|e| *e > 0.0 && e.is_finite())
+                            .map(|e| (x, e))
+                    })
+                    .collect();
+                (pts.len() >= 2).then(|| Series::solid(label, pts, PALETTE[k % PALETTE.len()]))
+            };
+            let mut plot = |name: String, title: String, series: Vec<Series>, caption: String| {
+                if series.is_empty() {
+                    return Ok(());
+                }
+                let axes = LogLog {
+                    title: &title,
+                    x_label,
+                    y_label,
+                    slope: reference_slope(quantity),
+                };
+                loglog_plot(&out.join(&name), axes, &series)?;
+                figures.push(Figure {
+                    file: name,
+                    caption,
+                });
+                Ok::<(), Error>(())
+            };
+            if spaces.len() > 1 {
+                let first = schemes[0].clone();
+                let series = spaces
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(k, sp)| {
+                        series_of(
+                            &|s| s.space == *sp && scheme_label(s) == first,
+                            sp.clone(),
+                            k,
+                        )
+                    })
+                    .collect();
+                plot(
+                    format!("{case}_{sweep}_{quantity}_spaces.png"),
+                    format!("{case}: {quantity} vs {x_label}, {first}"),
+                    series,
+                    format!("{case}: {y_label} against {x_label} for every space with {first}."),
+                )?;
+            }
+            if schemes.len() > 1 {
+                let series = schemes
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(k, sc)| {
+                        series_of(
+                            &|s| s.space == reference && scheme_label(s) == *sc,
+                            sc.clone(),
+                            k,
+                        )
+                    })
+                    .collect();
+                plot(
+                    format!("{case}_{sweep}_{quantity}_schemes.png"),
+                    format!("{case}: {quantity} vs {x_label}, {reference}"),
+                    series,
+                    format!(
+                        "{case}: {y_label} against {x_label} for every scheme with {reference}."
+                    ),
+                )?;
+            }
+        }
+    }
+    Ok(figures)
+}
+
+/// Energy and contact stress against time for the first sweep of a case file, at its third
+/// level (first with `quick`): every space with the first scheme, or every scheme when the
+/// sweep has one space. Failed runs are left out of the plot and named in the caption.
+fn time_histories(path: &Path, out: &Path, quick: bool) -> Result<Vec<Figure>> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let case = cases::parse(&text, path, &cases::Overrides::default())?;
+    let sweep = &case.sweeps()[0];
+    let levels = sweep.refinements(quick)?;
+    let level = if quick { 0 } else { 2.min(levels.len() - 1) };
+    let combos: Vec<(String, usize)> = if sweep.spaces.len() > 1 {
+        sweep.spaces.iter().map(|s| (s.clone(), 0)).collect()
+    } else {
+        (0..sweep.schemes.len())
+            .map(|k| (sweep.spaces[0].clone(), k))
             .collect()
     };
-    let shown = pick(&["standard", "mass_redistribution", "singular_dynamic"]);
-    let mut stress: Vec<Series> = shown
-        .iter()
-        .enumerate()
-        .map(|(i, (s, r))| Series::solid(s.clone(), curve(r, |x| x.sigma_contact), PALETTE[i]))
-        .collect();
-    let mut energy: Vec<Series> = shown
-        .iter()
-        .enumerate()
-        .map(|(i, (s, r))| Series::solid(s.clone(), curve(r, |x| x.energy), PALETTE[i]))
-        .collect();
-    if let Some((_, r)) = shown.first() {
-        let ex = |f: fn((f64, f64, f64)) -> f64| {
-            r.rows
-                .iter()
-                .filter_map(|x| x.exact.map(|e| (x.t, f(e))))
-                .collect()
+    let mut runs: Vec<(String, RunResult)> = Vec::new();
+    let mut failed = Vec::new();
+    for (space, k) in combos {
+        let o = sweep.overrides(&space, &sweep.schemes[k], levels[level]);
+        let result = cases::parse(&text, path, &o).and_then(|c| run(c.as_ref() as &dyn Case));
+        let label = if sweep.spaces.len() > 1 {
+            space.clone()
+        } else {
+            sweep.schemes[k].label()
         };
-        stress.push(Series::dashed("exact", ex(|e| e.1), BLACK_RGB));
-        energy.push(Series::dashed("exact", ex(|e| e.2), BLACK_RGB));
+        match result {
+            Ok(r) => runs.push((label, r)),
+            Err(_) => failed.push(label),
+        }
     }
-    time_plot(
-        &out.join("bar1d_contact_stress.png"),
-        "bar1d: contact stress at x = 0, N = 80, dt = h/2, Newmark(1/2, 1/2)",
-        "sigma_N",
-        &stress,
-    )?;
-    time_plot(
-        &out.join("bar1d_energy.png"),
-        "bar1d: total energy, N = 80, dt = h/2, Newmark(1/2, 1/2)",
-        "energy",
-        &energy,
-    )?;
-    write_index(out, &orders)
+    let kind = case.kind();
+    let at = levels[level]
+        .elements
+        .map_or(String::new(), |n| format!("{n} elements, "));
+    let setting = format!("{at}dt = {}", levels[level].dt);
+    let left_out = if failed.is_empty() {
+        String::new()
+    } else {
+        format!(" Not shown (failed or unsupported): {}.", failed.join(", "))
+    };
+    let mut figures = Vec::new();
+    for (what, file, get, exact) in [
+        (
+            "total energy",
+            "energy",
+            (|r: &crate::run::Row| r.energy) as fn(&crate::run::Row) -> f64,
+            (|e: (f64, f64, f64)| e.2) as fn((f64, f64, f64)) -> f64,
+        ),
+        (
+            "contact stress",
+            "contact_stress",
+            |r| r.sigma_contact,
+            |e| e.1,
+        ),
+    ] {
+        let mut series: Vec<Series> = runs
+            .iter()
+            .enumerate()
+            .map(|(k, (label, r))| {
+                let pts = r.rows.iter().map(|x| (x.t, get(x))).collect();
+                Series::solid(label.clone(), pts, PALETTE[k % PALETTE.len()])
+            })
+            .collect();
+        if let Some((_, r)) = runs.first() {
+            let pts: Vec<(f64, f64)> = r
+                .rows
+                .iter()
+                .filter_map(|x| x.exact.map(|e| (x.t, exact(e))))
+                .collect();
+            if !pts.is_empty() {
+                series.push(Series::dashed("exact", pts, plotters::style::BLACK));
+            }
+        }
+        if series.is_empty() {
+            continue;
+        }
+        let name = format!("{kind}_{file}.png");
+        time_plot(
+            &out.join(&name),
+            &format!("{kind}: {what}, {setting}"),
+            what,
+            &series,
+        )?;
+        figures.push(Figure {
+            file: name,
+            caption: format!(
+                "{kind}: {what} at the contact point against time ({setting}), exact dashed.{left_out}"
+            ),
+        });
+    }
+    Ok(figures)
 }
 
-const BLACK_RGB: plotters::style::RGBColor = plotters::style::RGBColor(0, 0, 0);
-
-fn write_index(out: &Path, orders: &[Vec<String>]) -> Result<()> {
-    let mut md = String::from("# dyncontact report\n\n");
-    md.push_str("Generated by `cargo run --release -- report`. bar1d: unit bar of `shared/reference/bar_impact.md`, ");
-    md.push_str("h = 1/20 … 1/320, dt = h/2, T = 12 (P1; singular_dynamic P2/P1).\n\n");
-    md.push_str("- `summary.csv`: one row per run (metrics of DESIGN.md §6; `wall_time_s` is the only non-deterministic column).\n");
-    md.push_str("- `orders.csv`: observed orders (least-squares slope of log error vs log h) and fit residuals.\n");
-    md.push_str(
-        "- `bar1d_convergence.png`: displacement error vs h for every space, Newmark(½, ½).\n",
+/// Orders of one case × sweep as a table: rows space × scheme, columns the fitted quantities.
+pub fn order_table(orders: &[Order], case: &str, sweep: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let rows_of: Vec<&Order> = orders
+        .iter()
+        .filter(|o| o.case == case && o.sweep == sweep)
+        .collect();
+    let quantities = unique(rows_of.iter().map(|o| o.quantity));
+    let keys = unique(
+        rows_of
+            .iter()
+            .map(|o| (o.space.clone(), o.scheme.clone(), o.parameters.clone())),
     );
-    md.push_str("- `bar1d_contact_stress.png`: contact stress at x = 0 (standard oscillates, mass redistribution is close to the exact square wave).\n");
-    md.push_str("- `bar1d_energy.png`: total energy vs time against the exact 1/8.\n\n");
-    md.push_str("## Observed orders (Newmark ½, ½)\n\n| space | u L∞(L²) | u(0,t) | u L²(H¹) | energy | σ_N L²(0,T) |\n|---|---|---|---|---|---|\n");
-    for space in SPACES {
-        let get = |q: &str| {
-            orders
-                .iter()
-                .find(|r| r[1] == *space && r[3] == "beta=0.5;gamma=0.5" && r[4] == q)
-                .map_or("–".to_string(), |r| r[5].clone())
-        };
-        let _ = writeln!(
-            md,
-            "| {space} | {} | {} | {} | {} | {} |",
-            get("err_u_linf_l2"),
-            get("err_u_contact"),
-            get("err_u_l2_h1"),
-            get("err_energy"),
-            get("err_sigma_l2")
-        );
-    }
-    std::fs::write(out.join("index.md"), md).map_err(|e| Error::io(out.join("index.md"), e))
+    let mut header = vec!["space".to_string(), "scheme".to_string()];
+    header.extend(quantities.iter().map(|q| q.to_string()));
+    let rows = keys
+        .iter()
+        .map(|(space, scheme, params)| {
+            let mut row = vec![
+                space.clone(),
+                if params.is_empty() {
+                    scheme.clone()
+                } else {
+                    format!("{scheme} ({params})")
+                },
+            ];
+            row.extend(quantities.iter().map(|q| {
+                rows_of
+                    .iter()
+                    .find(|o| {
+                        o.space == *space
+                            && o.scheme == *scheme
+                            && o.parameters == *params
+                            && o.quantity == *q
+                    })
+                    .and_then(|o| o.fit)
+                    .map_or("–".to_string(), |f| format!("{:.2}", f.0))
+            }));
+            row
+        })
+        .collect();
+    (header, rows)
 }

@@ -41,6 +41,27 @@ pub struct SchemeChoice {
     pub penalty: Option<f64>,
 }
 
+impl SchemeChoice {
+    /// `scheme (key=value, …)` with the parameters set in the table.
+    pub fn label(&self) -> String {
+        let params: Vec<String> = [
+            ("beta", self.beta),
+            ("gamma", self.gamma),
+            ("alpha", self.alpha),
+            ("theta", self.theta),
+            ("e", self.restitution),
+        ]
+        .iter()
+        .filter_map(|(k, v)| v.map(|v| format!("{k}={v}")))
+        .collect();
+        if params.is_empty() {
+            self.scheme.clone()
+        } else {
+            format!("{} ({})", self.scheme, params.join(", "))
+        }
+    }
+}
+
 /// One refinement level: number of elements (None for a 0D case) and time step.
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]

@@ -1,7 +1,9 @@
 //! Outputs: CSV files (fixed float formatting) and PNG plots.
 
 pub mod csv;
+pub mod index;
 pub mod plot;
+pub mod records;
 
 /// A float as written to CSV: `{:.12e}`; `None` as an empty field.
 pub fn fmt_float(x: Option<f64>) -> String {

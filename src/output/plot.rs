@@ -38,14 +38,18 @@ impl Series {
     }
 }
 
-/// Palette for several series.
-pub const PALETTE: [RGBColor; 6] = [
+/// Palette for several series (matplotlib's tab10).
+pub const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
     RGBColor(255, 127, 14),
     RGBColor(148, 103, 189),
     RGBColor(23, 190, 207),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
 ];
 
 fn plot_err(path: &Path, e: impl std::fmt::Display) -> Error {
@@ -168,8 +172,22 @@ where
         .draw()
 }
 
-/// Log–log plot of error against h, one series per label, with a reference slope-1 line.
-pub fn loglog_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> Result<()> {
+/// Axes of a log–log convergence plot.
+#[derive(Debug, Clone, Copy)]
+pub struct LogLog<'a> {
+    /// Title.
+    pub title: &'a str,
+    /// Label of the x axis (`h` or `dt`).
+    pub x_label: &'a str,
+    /// Label of the y axis.
+    pub y_label: &'a str,
+    /// Slope of the reference triangle.
+    pub slope: f64,
+}
+
+/// Log–log plot of errors against the mesh size or time step, one series per label, with a
+/// reference slope triangle (legs over one factor 2 of x) below the data.
+pub fn loglog_plot(path: &Path, axes: LogLog<'_>, series: &[Series]) -> Result<()> {
     let pts: Vec<(f64, f64)> = series
         .iter()
         .flat_map(|s| s.points.iter().copied())
@@ -184,23 +202,33 @@ pub fn loglog_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -
     let (y0, y1) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
         (a.min(p.1), b.max(p.1))
     });
-    let reference = vec![(x0, y0 * 0.7), (x1, y0 * 0.7 * x1 / x0)];
-    let mut all: Vec<Series> = vec![Series::dashed("slope 1", reference, BLACK)];
+    let (xa, ya) = (x0, y0 * 0.6);
+    let (xb, yb) = (2.0 * x0, ya * 2f64.powf(axes.slope));
+    let triangle = vec![(xa, ya), (xb, ya), (xb, yb), (xa, ya)];
+    let mut all: Vec<Series> = vec![Series::dashed(
+        format!("slope {}", axes.slope),
+        triangle,
+        BLACK,
+    )];
     all.extend(series.iter().cloned());
     let frame = Frame {
-        title,
-        x_label: "h",
-        y_label,
+        title: axes.title,
+        x_label: axes.x_label,
+        y_label: axes.y_label,
         height: 650,
         width: 2,
         markers: true,
-        legend: SeriesLabelPosition::LowerRight,
+        legend: SeriesLabelPosition::UpperLeft,
     };
+    // Start the x axis at a power of ten so that it gets tick labels; leave room above the data
+    // for the legend.
+    let left = 10f64.powf((x0 * 0.8).log10().floor()) * 0.999;
+    let top = y1.max(yb) * 4.0 * 1.6f64.powi(all.len() as i32);
     render(
         path,
         &frame,
-        (x0 * 0.8..x1 * 1.25).log_scale(),
-        (y0 * 0.5..y1 * 2.0).log_scale(),
+        (left..x1 * 1.25).log_scale(),
+        (ya * 0.5..top).log_scale(),
         &all,
     )
 }

@@ -245,14 +245,9 @@ impl Integrator for CentralDifferenceIntegrator<'_> {
         if self.quasi_static {
             self.quasi_static_rhs();
         }
-        let at = self.s.next();
-        let info = self.s.system.solve(
-            self.s.problem,
-            (&self.s.rhs, &self.s.problem.contact.g0),
-            (&mut self.u_new, &mut self.w_new),
-            &mut self.s.lambda,
-            at,
-        )?;
+        let info = self
+            .s
+            .solve_position_into(&mut self.u_new, &mut self.w_new)?;
         self.levels
             .rotate(&mut self.s, &mut self.u_new, &mut self.w_new);
         self.s.finish(info)

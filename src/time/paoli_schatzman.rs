@@ -91,14 +91,7 @@ impl Integrator for PaoliSchatzmanIntegrator<'_> {
             .inertia
             .apply_add(&mut self.s.rhs, &self.wz, 1.0);
         self.s.rhs.iter_mut().for_each(|r| *r /= 1.0 + e);
-        let at = self.s.next();
-        let info = self.s.system.solve(
-            self.s.problem,
-            (&self.s.rhs, &self.s.problem.contact.g0),
-            (&mut self.z, &mut self.wz),
-            &mut self.s.lambda,
-            at,
-        )?;
+        let info = self.s.solve_position_into(&mut self.z, &mut self.wz)?;
         linalg::scale_add(&mut self.z, 1.0 + e, -e, &self.levels.u_prev);
         linalg::scale_add(&mut self.wz, 1.0 + e, -e, &self.levels.w_prev);
         self.levels.rotate(&mut self.s, &mut self.z, &mut self.wz);

@@ -64,11 +64,20 @@ impl<'p> Stepper<'p> {
 
     /// Solves `A (U, w) = rhs − c B_Nᵀ λ` with the Signorini law on the new gap `g₀ − B_N U`.
     pub fn solve_position(&mut self) -> Result<SolveInfo> {
+        let (mut u, mut w) = (std::mem::take(&mut self.u), std::mem::take(&mut self.w));
+        let info = self.solve_position_into(&mut u, &mut w);
+        (self.u, self.w) = (u, w);
+        info
+    }
+
+    /// As [`Stepper::solve_position`], writing `(X, w_X)` to `u`, `w` (the schemes whose unknown
+    /// is not the new displacement itself).
+    pub fn solve_position_into(&mut self, u: &mut [f64], w: &mut [f64]) -> Result<SolveInfo> {
         let at = self.next();
         self.system.solve(
             self.problem,
             (&self.rhs, &self.problem.contact.g0),
-            (&mut self.u, &mut self.w),
+            (u, w),
             &mut self.lambda,
             at,
         )

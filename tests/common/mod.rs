@@ -44,5 +44,5 @@ pub fn run_bar(
 
 /// Least-squares slope of log(err) against log(h).
 pub fn observed_order(h: &[f64], err: &[f64]) -> f64 {
-    dyncontact::report::fit_order(h, err).0
+    dyncontact::orders::fit_order(h, err).0
 }

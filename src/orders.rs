@@ -1,0 +1,166 @@
+//! Observed orders of convergence from run records: least-squares slope of log(error) against
+//! log(h) (log(dt) for a 0D case) per case × sweep × space × scheme × quantity, with the RMS
+//! residual of the fit and the value expected from the literature where known.
+
+use crate::error::Result;
+use crate::harness::{RunRecord, Status};
+use crate::metrics::Metrics;
+use std::path::Path;
+
+/// Least-squares slope of log(y) against log(x) and the RMS residual of the fit.
+pub fn fit_order(x: &[f64], y: &[f64]) -> (f64, f64) {
+    let lx: Vec<f64> = x.iter().map(|v| v.ln()).collect();
+    let ly: Vec<f64> = y.iter().map(|v| v.ln()).collect();
+    let n = lx.len() as f64;
+    let (mx, my) = (lx.iter().sum::<f64>() / n, ly.iter().sum::<f64>() / n);
+    let sxy: f64 = lx.iter().zip(&ly).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let sxx: f64 = lx.iter().map(|a| (a - mx).powi(2)).sum();
+    let slope = sxy / sxx;
+    let res = lx
+        .iter()
+        .zip(&ly)
+        .map(|(a, b)| (b - my - slope * (a - mx)).powi(2))
+        .sum::<f64>();
+    (slope, (res / n).sqrt())
+}
+
+/// Quantities whose observed orders are fitted, with their accessor.
+pub type Quantity = (&'static str, fn(&Metrics) -> Option<f64>);
+
+/// The fitted quantities: displacement, energy, contact stress and impact time errors.
+pub const QUANTITIES: [Quantity; 6] = [
+    ("err_u_linf_l2", |m| m.err_u_linf_l2),
+    ("err_u_contact", |m| m.err_u_contact),
+    ("err_u_l2_h1", |m| m.err_u_l2_h1),
+    ("err_energy", |m| m.err_energy),
+    ("err_sigma_l2", |m| m.err_sigma_l2),
+    ("impact_time_err", |m| m.impact_time_err),
+];
+
+/// Slope of the reference triangle drawn on convergence plots of `quantity`.
+pub fn reference_slope(quantity: &str) -> f64 {
+    match quantity {
+        "err_u_linf_l2" | "err_u_contact" => 1.0,
+        "impact_time_err" => 2.0,
+        _ => 0.5,
+    }
+}
+
+/// Expected order from the literature / theory, where known (`shared/reference/methods.md`).
+pub fn literature(case: &str, quantity: &str) -> &'static str {
+    match (case, quantity) {
+        ("bar1d", "err_u_linf_l2" | "err_u_contact") => "1",
+        ("bar1d", "err_u_l2_h1" | "err_energy" | "err_sigma_l2") => "1/3-1/2",
+        _ => "",
+    }
+}
+
+/// One row of `orders.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Order {
+    /// Case kind.
+    pub case: String,
+    /// Sweep name.
+    pub sweep: String,
+    /// Space.
+    pub space: String,
+    /// Scheme.
+    pub scheme: String,
+    /// Scheme parameters.
+    pub parameters: String,
+    /// Quantity name.
+    pub quantity: &'static str,
+    /// Least-squares slope of log(error) against log(h) (log(dt) for 0D cases) and the RMS
+    /// residual of the fit; None with fewer than two usable levels.
+    pub fit: Option<(f64, f64)>,
+    /// Levels used (status ok, error finite and > 0).
+    pub points: usize,
+}
+
+/// Observed orders per case × sweep × space × scheme × quantity, in record order.
+pub fn orders(records: &[RunRecord]) -> Vec<Order> {
+    let key = |r: &RunRecord| {
+        (
+            r.summary.case.clone(),
+            r.sweep.clone(),
+            r.summary.space.clone(),
+            r.summary.scheme.clone(),
+            r.summary.parameters.clone(),
+        )
+    };
+    let mut groups: Vec<(_, Vec<&RunRecord>)> = Vec::new();
+    for r in records {
+        let k = key(r);
+        match groups.iter_mut().find(|(g, _)| *g == k) {
+            Some((_, v)) => v.push(r),
+            None => groups.push((k, vec![r])),
+        }
+    }
+    let mut out = Vec::new();
+    for ((case, sweep, space, scheme, parameters), runs) in groups {
+        for (quantity, get) in QUANTITIES {
+            let pts: Vec<(f64, f64)> = runs
+                .iter()
+                .filter(|r| r.status == Status::Ok)
+                .filter_map(|r| {
+                    let s = &r.summary;
+                    let x = if s.h.is_finite() { s.h } else { s.dt };
+                    get(&s.metrics)
+                        .filter(|e| e.is_finite() && *e > 0.0)
+                        .map(|e| (x, e))
+                })
+                .collect();
+            if runs.iter().all(|r| get(&r.summary.metrics).is_none()) {
+                continue;
+            }
+            let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
+            out.push(Order {
+                case: case.clone(),
+                sweep: sweep.clone(),
+                space: space.clone(),
+                scheme: scheme.clone(),
+                parameters: parameters.clone(),
+                quantity,
+                fit: (pts.len() >= 2).then(|| fit_order(&x, &y)),
+                points: pts.len(),
+            });
+        }
+    }
+    out
+}
+
+/// Columns of `orders.csv`.
+pub const ORDER_COLUMNS: &[&str] = &[
+    "case",
+    "sweep",
+    "space",
+    "scheme",
+    "parameters",
+    "quantity",
+    "order",
+    "fit_residual",
+    "points",
+    "literature",
+];
+
+/// Writes `orders.csv` (orders and residuals with 4 decimals).
+pub fn write_orders(path: &Path, orders: &[Order]) -> Result<()> {
+    crate::output::csv::write_rows(
+        path,
+        ORDER_COLUMNS,
+        orders.iter().map(|o| {
+            vec![
+                o.case.clone(),
+                o.sweep.clone(),
+                o.space.clone(),
+                o.scheme.clone(),
+                o.parameters.clone(),
+                o.quantity.to_string(),
+                o.fit.map_or_else(String::new, |f| format!("{:.4}", f.0)),
+                o.fit.map_or_else(String::new, |f| format!("{:.4}", f.1)),
+                o.points.to_string(),
+                literature(&o.case, o.quantity).to_string(),
+            ]
+        }),
+    )
+}

@@ -1,0 +1,166 @@
+//! `records.csv` / `summary.csv` of a sweep: one row per run, written and read back (for
+//! `dyncontact merge`), and `timings.csv` with the only non-deterministic columns.
+
+use super::csv::{summary_record, write_rows, SUMMARY_COLUMNS};
+use crate::error::{Error, Result};
+use crate::harness::{RunRecord, Status};
+use crate::metrics::Metrics;
+use crate::run::Summary;
+use std::path::Path;
+
+/// Columns of `records.csv` before the summary columns.
+pub const RECORD_COLUMNS: &[&str] = &["sweep", "level", "status", "reason"];
+
+/// The non-deterministic column of `summary.csv`, left out of the report's summary.
+const WALL_TIME: &str = "wall_time_s";
+
+/// Writes the records: [`RECORD_COLUMNS`] then `summary.csv`'s columns, without `wall_time_s`
+/// unless `with_timing` (so that two report runs give byte-identical files).
+pub fn write_records(path: &Path, records: &[RunRecord], with_timing: bool) -> Result<()> {
+    let keep: Vec<bool> = SUMMARY_COLUMNS
+        .iter()
+        .map(|c| with_timing || *c != WALL_TIME)
+        .collect();
+    let mut header = RECORD_COLUMNS.to_vec();
+    header.extend(
+        SUMMARY_COLUMNS
+            .iter()
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|(c, _)| *c),
+    );
+    write_rows(
+        path,
+        &header,
+        records.iter().map(|r| {
+            let mut v = vec![
+                r.sweep.clone(),
+                r.level.to_string(),
+                r.status.as_str().to_string(),
+                r.reason.clone(),
+            ];
+            v.extend(
+                summary_record(&r.summary)
+                    .into_iter()
+                    .zip(&keep)
+                    .filter(|(_, k)| **k)
+                    .map(|(x, _)| x),
+            );
+            v
+        }),
+    )
+}
+
+/// Columns of `timings.csv`.
+pub const TIMING_COLUMNS: &[&str] = &[
+    "case",
+    "sweep",
+    "space",
+    "scheme",
+    "parameters",
+    "level",
+    "dofs",
+    "steps",
+    "wall_time_s",
+    "time_per_step_s",
+    "time_per_dof_step_s",
+];
+
+/// Writes `timings.csv`: wall time of the time loop (prepare included), per step and per dof·step.
+pub fn write_timings(path: &Path, records: &[RunRecord]) -> Result<()> {
+    write_rows(
+        path,
+        TIMING_COLUMNS,
+        records.iter().filter(|r| r.summary.steps > 0).map(|r| {
+            let s = &r.summary;
+            let per_step = s.wall_time / s.steps as f64;
+            vec![
+                s.case.clone(),
+                r.sweep.clone(),
+                s.space.clone(),
+                s.scheme.clone(),
+                s.parameters.clone(),
+                r.level.to_string(),
+                s.dofs.to_string(),
+                s.steps.to_string(),
+                format!("{:.6e}", s.wall_time),
+                format!("{per_step:.6e}"),
+                format!("{:.6e}", per_step / s.dofs.max(1) as f64),
+            ]
+        }),
+    )
+}
+
+/// Reads records written by [`write_records`] (with or without the timing column).
+pub fn read_records(path: &Path) -> Result<Vec<RunRecord>> {
+    let err = |m: String| Error::Csv {
+        path: path.to_path_buf(),
+        message: m,
+    };
+    let mut reader = csv::Reader::from_path(path).map_err(|e| err(e.to_string()))?;
+    let header = reader.headers().map_err(|e| err(e.to_string()))?.clone();
+    let col = |name: &str| header.iter().position(|h| h == name);
+    for needed in RECORD_COLUMNS
+        .iter()
+        .chain(SUMMARY_COLUMNS)
+        .filter(|c| **c != WALL_TIME)
+    {
+        if col(needed).is_none() {
+            return Err(err(format!("missing column `{needed}`")));
+        }
+    }
+    let mut out = Vec::new();
+    for (line, row) in reader.records().enumerate() {
+        let row = row.map_err(|e| err(e.to_string()))?;
+        let at = |what: &str| format!("row {}, column `{what}`", line + 2);
+        let text = |name: &str| col(name).and_then(|i| row.get(i)).unwrap_or("").to_string();
+        let float = |name: &str| -> Result<Option<f64>> {
+            let t = text(name);
+            if t.is_empty() {
+                return Ok(None);
+            }
+            t.parse::<f64>()
+                .map(Some)
+                .map_err(|e| err(format!("{}: {e}", at(name))))
+        };
+        let count = |name: &str| -> Result<usize> {
+            text(name)
+                .parse()
+                .map_err(|e| err(format!("{}: {e}", at(name))))
+        };
+        let nan = |x: Option<f64>| x.unwrap_or(f64::NAN);
+        let status = Status::parse(&text("status")).ok_or_else(|| err(at("status")))?;
+        out.push(RunRecord {
+            sweep: text("sweep"),
+            level: count("level")?,
+            status,
+            reason: text("reason"),
+            summary: Summary {
+                case: text("case"),
+                space: text("space"),
+                scheme: text("scheme"),
+                parameters: text("parameters"),
+                h: nan(float("h")?),
+                dt: nan(float("dt")?),
+                dofs: count("dofs")?,
+                steps: count("steps")?,
+                contact_iterations: count("contact_iterations")?,
+                wall_time: float(WALL_TIME)?.unwrap_or(0.0),
+                metrics: Metrics {
+                    energy_drift: nan(float("energy_drift")?),
+                    energy_ratio: nan(float("energy_ratio")?),
+                    max_penetration: nan(float("max_penetration")?),
+                    err_u_linf_l2: float("err_u_linf_l2")?,
+                    err_u_l2_h1: float("err_u_l2_h1")?,
+                    err_sigma_l2: float("err_sigma_l2")?,
+                    err_energy: float("err_energy")?,
+                    err_u_contact: float("err_u_contact")?,
+                    sigma_total_variation: nan(float("sigma_total_variation")?),
+                    restitution_eff: float("restitution_eff")?,
+                    impact_time_err: float("impact_time_err")?,
+                },
+            },
+        });
+    }
+    Ok(out)
+}

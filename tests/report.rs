@@ -1,0 +1,101 @@
+//! The report end to end on the quick sweeps: deterministic CSVs, every figure listed in the
+//! index, and `sweep --shard` + `merge` giving the same orders as one sweep.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::process::Command;
+
+fn dyncontact(args: &[&str]) {
+    let out = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
+        .args(args)
+        .output()
+        .expect("binary runs");
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn read(p: &Path) -> String {
+    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+#[test]
+fn quick_report_is_deterministic_and_indexed() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    for out in [&a, &b] {
+        dyncontact(&["report", "--quick", "--out", out.to_str().unwrap()]);
+    }
+    for csv in ["summary.csv", "orders.csv"] {
+        assert_eq!(read(&a.join(csv)), read(&b.join(csv)), "{csv} differs");
+    }
+    let index = read(&a.join("index.md"));
+    let html = read(&a.join("index.html"));
+    let pngs: Vec<String> = std::fs::read_dir(&a)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().to_string())
+        .filter(|n| n.ends_with(".png"))
+        .collect();
+    for must in [
+        "bar1d_energy.png",
+        "bar1d_contact_stress.png",
+        "spring_mass_energy.png",
+        "bar1d_orders_err_u_linf_l2_spaces.png",
+        "bar1d_orders_err_energy_schemes.png",
+        "bar1d_orders_err_sigma_l2_spaces.png",
+    ] {
+        assert!(pngs.iter().any(|p| p == must), "{must} missing: {pngs:?}");
+    }
+    for p in &pngs {
+        assert!(index.contains(&format!("]({p})")), "{p} not in index.md");
+        assert!(
+            html.contains(&format!("<img src=\"{p}\"")),
+            "{p} not in index.html"
+        );
+    }
+    for table in ["summary.csv", "timings.csv", "orders.csv"] {
+        assert!(index.contains(table), "{table} not described in index.md");
+    }
+}
+
+#[test]
+fn shards_merge_into_the_orders_of_one_sweep() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let one = d.join("one");
+    let case = "cases/spring_mass.toml";
+    dyncontact(&["sweep", case, "--quick", "--out", one.to_str().unwrap()]);
+    let shards = d.join("shards");
+    for s in ["1/3", "2/3", "3/3"] {
+        dyncontact(&[
+            "sweep",
+            case,
+            "--quick",
+            "--shard",
+            s,
+            "--out",
+            shards.to_str().unwrap(),
+        ]);
+    }
+    let files: Vec<String> = (1..=3)
+        .map(|i| {
+            shards
+                .join(format!("records-{i}-of-3.csv"))
+                .to_string_lossy()
+                .to_string()
+        })
+        .collect();
+    let merged = d.join("merged");
+    let mut args = vec!["merge", "--out", merged.to_str().unwrap()];
+    args.extend(files.iter().map(String::as_str));
+    dyncontact(&args);
+    let lines = |p: &Path| read(p).lines().map(String::from).collect::<BTreeSet<_>>();
+    assert_eq!(
+        lines(&one.join("orders.csv")),
+        lines(&merged.join("orders.csv"))
+    );
+    assert!(read(&merged.join("index.md")).contains("Observed orders: spring_mass"));
+}
