@@ -262,6 +262,32 @@ impl Factor {
         self.n
     }
 
+    /// Solves `A X = B` in place for `ncols` right-hand sides stored column-major in `x`
+    /// (blocked triangular solves; allocates its workspace: for setup, not for time steps).
+    pub fn solve_columns(&mut self, x: &mut [f64], ncols: usize) {
+        assert_eq!(
+            x.len(),
+            self.n * ncols,
+            "right-hand sides of the wrong length"
+        );
+        let rhs = MatMut::from_column_major_slice_mut(x, self.n, ncols);
+        // Setup-time blocked solves use every core (the per-step solves stay sequential).
+        let par = Par::rayon(0);
+        let req = match &self.kind {
+            Kind::Llt { symbolic, .. } => symbolic.solve_in_place_scratch::<f64>(ncols, par),
+            Kind::Lu { symbolic, .. } => symbolic.solve_in_place_scratch::<f64>(ncols, par),
+        };
+        let mut buffer = MemBuffer::new(req);
+        let stack = MemStack::new(&mut buffer);
+        match &self.kind {
+            Kind::Llt { symbolic, values } => {
+                LltRef::new(symbolic, values).solve_in_place_with_conj(Conj::No, rhs, par, stack)
+            }
+            Kind::Lu { symbolic, numeric } => LuRef::new_unchecked(symbolic, numeric)
+                .solve_in_place_with_conj(Conj::No, rhs, par, stack),
+        }
+    }
+
     /// Solves `A x = b` in place (`x` holds `b` on entry).
     pub fn solve_in_place(&mut self, x: &mut [f64]) {
         assert_eq!(x.len(), self.n, "right-hand side of the wrong length");

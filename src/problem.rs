@@ -177,6 +177,30 @@ pub struct StepOperator {
 }
 
 impl StepOperator {
+    /// Solves for `ncols` displacement right-hand sides at once: `rhs` holds them column-major
+    /// (length `n · ncols`) and receives the displacements; `w` (length `dim w · ncols`) receives
+    /// the inertial variables (setup only: allocates).
+    pub fn solve_columns(&mut self, rhs: &mut [f64], w: &mut [f64], ncols: usize) {
+        let (n, big) = (self.n, self.x.len());
+        let mut x = vec![0.0; big * ncols];
+        for c in 0..ncols {
+            x[c * big..c * big + n].copy_from_slice(&rhs[c * n..(c + 1) * n]);
+        }
+        self.factor.solve_columns(&mut x, ncols);
+        let nw = w.len() / ncols.max(1);
+        for c in 0..ncols {
+            let col = &x[c * big..(c + 1) * big];
+            rhs[c * n..(c + 1) * n].copy_from_slice(&col[..n]);
+            let wsrc = if self.mixed { &col[n..] } else { &col[..n] };
+            w[c * nw..(c + 1) * nw].copy_from_slice(wsrc);
+        }
+    }
+
+    /// True for the singular dynamic saddle system (inertial variables distinct from U).
+    pub fn is_mixed(&self) -> bool {
+        self.mixed
+    }
+
     /// Solves the step system with displacement right-hand side `rhs_u` (inertial rows 0),
     /// writing the displacements to `u` and the inertial variables to `w`. Allocates nothing.
     pub fn solve(&mut self, rhs_u: &[f64], u: &mut [f64], w: &mut [f64]) {

@@ -9,13 +9,15 @@
 //! `dyncontact merge` rebuilds the same files (without the time histories, which need the time
 //! series) from record files written by `dyncontact sweep --shard i/n`.
 
-use crate::cases::{self, Case};
+use crate::cases;
+use crate::cases::sweep::HistorySpec;
 use crate::error::{Error, Result};
 use crate::harness::{self, RunRecord, Status};
 use crate::orders::{self, reference_slope, Order};
-use crate::output::plot::{loglog_plot, time_plot, LogLog, Series, PALETTE};
+use crate::output::plot::{loglog_plot, time_panels, time_plot, LogLog, Series, PALETTE};
 use crate::output::records::{write_records, write_timings};
-use crate::run::{run, RunResult, Summary};
+use crate::run::{run, Row, RunResult, Summary};
+use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// A figure of the report: file name (in the output directory) and what it shows.
@@ -238,12 +240,21 @@ fn convergence_figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figure>>
     Ok(figures)
 }
 
-/// Energy and contact stress against time for the first sweep of a case file, at its third
-/// level (first with `quick`): every space with the first scheme, or every scheme when the
-/// sweep has one space. Failed runs are left out of the plot and named in the caption.
+/// Energy and contact stress against time for a case file: its `[[history]]` tables (one panel
+/// per space, one curve per dt: the seed paper's figures side by side), or by default the first
+/// sweep at its third level (first with `quick`) with every space for the first scheme, or every
+/// scheme when the sweep has one space. Failed runs are left out and named in the caption.
 fn time_histories(path: &Path, out: &Path, quick: bool) -> Result<Vec<Figure>> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
     let case = cases::parse(&text, path, &cases::Overrides::default())?;
+    let kind = case.kind();
+    if !case.histories().is_empty() {
+        let mut figures = Vec::new();
+        for h in case.histories() {
+            figures.extend(history_panels(&text, path, out, kind, h)?);
+        }
+        return Ok(figures);
+    }
     let sweep = &case.sweeps()[0];
     let levels = sweep.refinements(quick)?;
     let level = if quick { 0 } else { 2.min(levels.len() - 1) };
@@ -254,59 +265,44 @@ fn time_histories(path: &Path, out: &Path, quick: bool) -> Result<Vec<Figure>> {
             .map(|k| (sweep.spaces[0].clone(), k))
             .collect()
     };
-    let mut runs: Vec<(String, RunResult)> = Vec::new();
-    let mut failed = Vec::new();
-    for (space, k) in combos {
-        let o = sweep.overrides(&space, &sweep.schemes[k], levels[level]);
-        let result = cases::parse(&text, path, &o).and_then(|c| run(c.as_ref() as &dyn Case));
-        let label = if sweep.spaces.len() > 1 {
-            space.clone()
-        } else {
-            sweep.schemes[k].label()
-        };
-        match result {
-            Ok(r) => runs.push((label, r)),
-            Err(_) => failed.push(label),
-        }
-    }
-    let kind = case.kind();
+    let curves: Vec<Curve> = combos
+        .par_iter()
+        .map(|(space, k)| {
+            let o = sweep.overrides(space, &sweep.schemes[*k], levels[level]);
+            let label = if sweep.spaces.len() > 1 {
+                space.clone()
+            } else {
+                sweep.schemes[*k].label()
+            };
+            (
+                label,
+                cases::parse(&text, path, &o).and_then(|c| run(c.as_ref())),
+            )
+        })
+        .collect();
     let at = levels[level]
         .elements
         .map_or(String::new(), |n| format!("{n} elements, "));
     let setting = format!("{at}dt = {}", levels[level].dt);
-    let left_out = if failed.is_empty() {
-        String::new()
-    } else {
-        format!(" Not shown (failed or unsupported): {}.", failed.join(", "))
-    };
+    let (runs, left_out) = split_failed(curves);
     let mut figures = Vec::new();
-    for (what, file, get, exact) in [
-        (
-            "total energy",
-            "energy",
-            (|r: &crate::run::Row| r.energy) as fn(&crate::run::Row) -> f64,
-            (|e: (f64, f64, f64)| e.2) as fn((f64, f64, f64)) -> f64,
-        ),
-        (
-            "contact stress",
-            "contact_stress",
-            |r| r.sigma_contact,
-            |e| e.1,
-        ),
-    ] {
+    for (what, file, get) in QUANTITIES_VS_TIME {
         let mut series: Vec<Series> = runs
             .iter()
             .enumerate()
             .map(|(k, (label, r))| {
-                let pts = r.rows.iter().map(|x| (x.t, get(x))).collect();
-                Series::solid(label.clone(), pts, PALETTE[k % PALETTE.len()])
+                Series::solid(
+                    label.clone(),
+                    curve_of(r, get.0),
+                    PALETTE[k % PALETTE.len()],
+                )
             })
             .collect();
         if let Some((_, r)) = runs.first() {
             let pts: Vec<(f64, f64)> = r
                 .rows
                 .iter()
-                .filter_map(|x| x.exact.map(|e| (x.t, exact(e))))
+                .filter_map(|x| x.exact.map(|e| (x.t, (get.1)(e))))
                 .collect();
             if !pts.is_empty() {
                 series.push(Series::dashed("exact", pts, plotters::style::BLACK));
@@ -326,6 +322,127 @@ fn time_histories(path: &Path, out: &Path, quick: bool) -> Result<Vec<Figure>> {
             file: name,
             caption: format!(
                 "{kind}: {what} at the contact point against time ({setting}), exact dashed.{left_out}"
+            ),
+        });
+    }
+    Ok(figures)
+}
+
+/// A labelled run (or its failure).
+type Curve = (String, Result<RunResult>);
+/// Accessors of a time-series row and of the exact `(u, σ, E)`.
+type RowAccess = (fn(&Row) -> f64, fn((f64, f64, f64)) -> f64);
+
+/// Quantities plotted against time: description, file suffix, accessors.
+const QUANTITIES_VS_TIME: [(&str, &str, RowAccess); 2] = [
+    ("total energy", "energy", (|r| r.energy, |e| e.2)),
+    (
+        "contact stress",
+        "contact_stress",
+        (|r| r.sigma_contact, |e| e.1),
+    ),
+];
+
+fn curve_of(r: &RunResult, get: fn(&Row) -> f64) -> Vec<(f64, f64)> {
+    r.rows.iter().map(|x| (x.t, get(x))).collect()
+}
+
+/// The successful runs, and a caption sentence naming the failed ones.
+fn split_failed(curves: Vec<Curve>) -> (Vec<(String, RunResult)>, String) {
+    let mut runs = Vec::new();
+    let mut failed = Vec::new();
+    for (label, r) in curves {
+        match r {
+            Ok(r) => runs.push((label, r)),
+            Err(e) => failed.push(format!("{label} ({e})")),
+        }
+    }
+    let note = if failed.is_empty() {
+        String::new()
+    } else {
+        format!(" Not shown: {}.", failed.join("; "))
+    };
+    (runs, note)
+}
+
+/// One `[[history]]`: a panel per space, a curve per time step, for energy and contact stress.
+fn history_panels(
+    text: &str,
+    path: &Path,
+    out: &Path,
+    kind: &str,
+    h: &HistorySpec,
+) -> Result<Vec<Figure>> {
+    let combos: Vec<(&String, f64)> = h
+        .spaces
+        .iter()
+        .flat_map(|s| h.dts.iter().map(move |&dt| (s, dt)))
+        .collect();
+    let curves: Vec<(String, Curve)> = combos
+        .par_iter()
+        .map(|&(space, dt)| {
+            let r = cases::parse(text, path, &h.overrides(space, dt)).and_then(|c| run(c.as_ref()));
+            (space.clone(), (format!("dt = {dt}"), r))
+        })
+        .collect();
+    let mut by_space: Vec<(String, Vec<Curve>)> = Vec::new();
+    for (space, c) in curves {
+        match by_space.iter_mut().find(|(s, _)| *s == space) {
+            Some((_, v)) => v.push(c),
+            None => by_space.push((space, vec![c])),
+        }
+    }
+    let mut notes = String::new();
+    let panels_runs: Vec<(String, Vec<(String, RunResult)>)> = by_space
+        .into_iter()
+        .map(|(space, curves)| {
+            let (runs, note) = split_failed(curves);
+            notes.push_str(&note);
+            (space, runs)
+        })
+        .collect();
+    let suffix = if h.name.is_empty() {
+        String::new()
+    } else {
+        format!("_{}", h.name)
+    };
+    let scheme = h.scheme.label();
+    let mut figures = Vec::new();
+    for (what, file, get) in QUANTITIES_VS_TIME {
+        let panels: Vec<(String, Vec<Series>)> = panels_runs
+            .iter()
+            .filter(|(_, runs)| !runs.is_empty())
+            .map(|(space, runs)| {
+                let series = runs
+                    .iter()
+                    .enumerate()
+                    .map(|(k, (label, r))| {
+                        Series::solid(
+                            label.clone(),
+                            curve_of(r, get.0),
+                            PALETTE[k % PALETTE.len()],
+                        )
+                    })
+                    .collect();
+                (format!("{kind}: {space}"), series)
+            })
+            .collect();
+        if panels.is_empty() {
+            continue;
+        }
+        let name = format!("{kind}{suffix}_{file}.png");
+        time_panels(&out.join(&name), what, &panels)?;
+        figures.push(Figure {
+            file: name,
+            caption: format!(
+                "{kind}: {what} at the centre of the contact face against time, {scheme}, one \
+                 panel per space ({}), one curve per dt ({}).{notes}",
+                h.spaces.join(", "),
+                h.dts
+                    .iter()
+                    .map(|d| d.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
         });
     }

@@ -59,8 +59,8 @@ fn snapshot_text(r: &RunRecord) -> String {
 #[test]
 fn summary_metrics_of_every_combination_are_unchanged() {
     let mut count = 0;
-    for case in ["cases/bar1d.toml", "cases/spring_mass.toml"] {
-        let jobs: Vec<_> = harness::jobs(std::path::Path::new(case), true)
+    for case in dyncontact::report::case_files(std::path::Path::new("cases")).unwrap() {
+        let jobs: Vec<_> = harness::jobs(&case, true)
             .unwrap()
             .into_iter()
             .filter(|j| j.level == 0)
@@ -80,5 +80,6 @@ fn summary_metrics_of_every_combination_are_unchanged() {
             count += 1;
         }
     }
-    assert_eq!(count, 5 * 8 + 7, "one snapshot per case × space × scheme");
+    // bar1d 5 spaces × 8 schemes, block2d 5 × 2, block3d 5 × 1, spring_mass 7 schemes.
+    assert_eq!(count, 5 * 8 + 5 * 2 + 5 + 7, "one snapshot per case × space × scheme");
 }

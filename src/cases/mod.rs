@@ -6,6 +6,7 @@
 //! (see `cases/bar1d.toml`, `cases/spring_mass.toml`).
 
 pub mod bar1d;
+pub mod block;
 pub mod spring_mass;
 pub mod sweep;
 
@@ -43,6 +44,10 @@ pub trait Case: Send + Sync {
     fn run(&self) -> &RunSpec;
     /// The `[[sweep]]` tables of the case file.
     fn sweeps(&self) -> &[sweep::SweepSpec];
+    /// The `[[history]]` tables of the case file (time series the report plots).
+    fn histories(&self) -> &[sweep::HistorySpec] {
+        &[]
+    }
 }
 
 /// The `[run]` table: default discretisation choices.
@@ -210,7 +215,7 @@ impl Overrides {
 }
 
 /// Case kinds known to [`load`].
-pub const CASES: &[&str] = &["bar1d", "spring_mass"];
+pub const CASES: &[&str] = &["bar1d", "spring_mass", "block2d", "block3d"];
 
 #[derive(Deserialize)]
 struct Header {
@@ -242,6 +247,10 @@ pub fn parse(text: &str, path: &Path, overrides: &Overrides) -> Result<Box<dyn C
         })?;
     match header.case.as_str() {
         "bar1d" => Ok(Box::new(bar1d::Bar1d::from_spec(
+            spec_from_str(text, path)?,
+            overrides,
+        )?)),
+        "block2d" | "block3d" => Ok(Box::new(block::Block::from_spec(
             spec_from_str(text, path)?,
             overrides,
         )?)),

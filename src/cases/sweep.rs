@@ -41,6 +41,17 @@ pub struct SchemeChoice {
     pub penalty: Option<f64>,
 }
 
+impl HistorySpec {
+    /// Overrides of one curve: `space` at time step `dt`.
+    pub fn overrides(&self, space: &str, dt: f64) -> Overrides {
+        let level = Refinement {
+            elements: self.elements,
+            dt,
+        };
+        combination(space, &self.scheme, &self.degree, level, None)
+    }
+}
+
 impl SchemeChoice {
     /// `scheme (key=value, …)` with the parameters set in the table.
     pub fn label(&self) -> String {
@@ -145,20 +156,51 @@ impl SweepSpec {
 
     /// Command-line-like overrides of one combination.
     pub fn overrides(&self, space: &str, choice: &SchemeChoice, level: Refinement) -> Overrides {
-        Overrides {
-            space: Some(space.to_string()),
-            scheme: Some(choice.scheme.clone()),
-            beta: choice.beta,
-            gamma: choice.gamma,
-            alpha: choice.alpha,
-            restitution: choice.restitution,
-            theta: choice.theta,
-            contact_solver: choice.contact_solver.clone(),
-            penalty: choice.penalty,
-            degree: self.degree.get(space).copied(),
-            elements: level.elements,
-            dt: Some(level.dt),
-            t_end: self.t_end,
-        }
+        combination(space, choice, &self.degree, level, self.t_end)
+    }
+}
+
+/// A `[[history]]` table: time series plotted by the report (seed figures 3–4).
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct HistorySpec {
+    /// Output name suffix: `<case>[_<name>]_energy.png`, `<case>[_<name>]_contact_stress.png`.
+    #[serde(default)]
+    pub name: String,
+    /// Spaces compared.
+    pub spaces: Vec<String>,
+    /// Time steps compared.
+    pub dts: Vec<f64>,
+    /// Scheme (with parameters).
+    pub scheme: SchemeChoice,
+    /// Elements (default: the file's).
+    pub elements: Option<usize>,
+    /// Per-space degree.
+    #[serde(default)]
+    pub degree: std::collections::BTreeMap<String, usize>,
+}
+
+/// Command-line-like overrides of `space` × `choice` at one refinement level.
+fn combination(
+    space: &str,
+    choice: &SchemeChoice,
+    degree: &BTreeMap<String, usize>,
+    level: Refinement,
+    t_end: Option<f64>,
+) -> Overrides {
+    Overrides {
+        space: Some(space.to_string()),
+        scheme: Some(choice.scheme.clone()),
+        beta: choice.beta,
+        gamma: choice.gamma,
+        alpha: choice.alpha,
+        restitution: choice.restitution,
+        theta: choice.theta,
+        contact_solver: choice.contact_solver.clone(),
+        penalty: choice.penalty,
+        degree: degree.get(space).copied(),
+        elements: level.elements,
+        dt: Some(level.dt),
+        t_end,
     }
 }

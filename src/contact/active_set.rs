@@ -22,6 +22,10 @@ pub const BACKUP_TRIES: usize = 3;
 pub struct ActiveSet {
     active: Vec<bool>,
     index: Vec<usize>,
+    /// Active set and matrix fingerprint of the factor held in `chol` (reused while unchanged:
+    /// during persistent contact the active set rarely changes from step to step).
+    factored: Vec<usize>,
+    fingerprint: Option<(usize, f64)>,
     infeasible: Vec<usize>,
     chol: Vec<f64>,
     rhs: Vec<f64>,
@@ -34,6 +38,8 @@ impl ActiveSet {
         Self {
             active: vec![false; n_c],
             index: Vec::with_capacity(n_c),
+            factored: Vec::with_capacity(n_c),
+            fingerprint: None,
             infeasible: Vec::with_capacity(n_c),
             chol: vec![0.0; n_c * n_c],
             rhs: vec![0.0; n_c],
@@ -51,25 +57,15 @@ impl ActiveSet {
         self.index.clear();
         self.index.extend((0..q.len()).filter(|&i| self.active[i]));
         let k = self.index.len();
-        let l = &mut self.chol[..k * k];
-        for a in 0..k {
-            for b in 0..=a {
-                let mut s = d[(self.index[a], self.index[b])];
-                for c in 0..b {
-                    s -= l[a * k + c] * l[b * k + c];
-                }
-                if a == b {
-                    if s <= 0.0 || !s.is_finite() {
-                        return Err(format!(
-                            "Delassus block not positive definite (pivot {s:e})"
-                        ));
-                    }
-                    l[a * k + a] = s.sqrt();
-                } else {
-                    l[a * k + b] = s / l[b * k + b];
-                }
-            }
+        let fingerprint = (d.as_ptr() as usize, d.diagonal().sum());
+        if self.fingerprint != Some(fingerprint) || self.factored != self.index {
+            self.fingerprint = None;
+            self.factor_active(d, k)?;
+            self.factored.clear();
+            self.factored.extend_from_slice(&self.index);
+            self.fingerprint = Some(fingerprint);
         }
+        let l = &self.chol[..k * k];
         let y = &mut self.rhs[..k];
         for a in 0..k {
             let mut s = -q[self.index[a]];
@@ -88,6 +84,30 @@ impl ActiveSet {
         lambda.fill(0.0);
         for (a, &i) in self.index.iter().enumerate() {
             lambda[i] = y[a];
+        }
+        Ok(())
+    }
+
+    /// Dense Cholesky `L Lᵀ = D_𝒜𝒜` of the active block into `chol` (row-major k × k).
+    fn factor_active(&mut self, d: &DMatrix<f64>, k: usize) -> Result<(), String> {
+        let l = &mut self.chol[..k * k];
+        for a in 0..k {
+            for b in 0..=a {
+                let mut s = d[(self.index[a], self.index[b])];
+                for c in 0..b {
+                    s -= l[a * k + c] * l[b * k + c];
+                }
+                if a == b {
+                    if s <= 0.0 || !s.is_finite() {
+                        return Err(format!(
+                            "Delassus block not positive definite (pivot {s:e})"
+                        ));
+                    }
+                    l[a * k + a] = s.sqrt();
+                } else {
+                    l[a * k + b] = s / l[b * k + b];
+                }
+            }
         }
         Ok(())
     }

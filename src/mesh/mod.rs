@@ -1,3 +1,5 @@
-//! Meshes. Only what the cases need: a uniform subdivision of an interval.
+//! Meshes. Only what the cases need: a uniform subdivision of an interval, and structured meshes
+//! of a rectangle or a box.
 
 pub mod interval;
+pub mod structured;

@@ -61,19 +61,7 @@ fn plot_err(path: &Path, e: impl std::fmt::Display) -> Error {
 
 /// Line plot of several series against time, 1000×600 px.
 pub fn time_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> Result<()> {
-    let pts = || series.iter().flat_map(|s| s.points.iter().copied());
-    let (x0, x1) = pts().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (x, _)| {
-        (a.min(x), b.max(x))
-    });
-    let (y0, y1) = pts()
-        .filter(|p| p.1.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (_, y)| {
-            (a.min(y), b.max(y))
-        });
-    if !(x0.is_finite() && y0.is_finite()) {
-        return Err(plot_err(path, "nothing to plot"));
-    }
-    let pad = ((y1 - y0) * 0.08).max(1e-12 * y1.abs().max(1.0));
+    let (x0, x1, y0, y1) = time_range(series).ok_or_else(|| plot_err(path, "nothing to plot"))?;
     let frame = Frame {
         title,
         x_label: "t",
@@ -83,7 +71,7 @@ pub fn time_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> 
         markers: false,
         legend: SeriesLabelPosition::UpperRight,
     };
-    render(path, &frame, x0..x1, (y0 - pad)..(y1 + pad), series)
+    render(path, &frame, x0..x1, y0..y1, series)
 }
 
 /// Layout of a plot: 1000 px wide, `height` px high, sans-serif text.
@@ -110,21 +98,90 @@ where
     let err = |e: &dyn std::fmt::Display| plot_err(path, e);
     let root = BitMapBackend::new(path, (1000, frame.height)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    let mut chart = ChartBuilder::on(&root)
+    draw_panel(&root, frame, x, y, series).map_err(|e| err(&e))?;
+    root.present().map_err(|e| err(&e))
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// One chart (caption, axes, curves, legend) on a drawing area.
+fn draw_panel<X, Y>(area: &Area<'_>, frame: &Frame<'_>, x: X, y: Y, series: &[Series]) -> DrawResult
+where
+    X: AsRangedCoord<Value = f64>,
+    Y: AsRangedCoord<Value = f64>,
+    X::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let mut chart = ChartBuilder::on(area)
         .caption(frame.title, ("sans-serif", 24))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(80)
-        .build_cartesian_2d(x, y)
-        .map_err(|e| err(&e))?;
+        .build_cartesian_2d(x, y)?;
     chart
         .configure_mesh()
         .x_desc(frame.x_label)
         .y_desc(frame.y_label)
+        .y_label_formatter(&|v| tick(*v))
         .label_style(("sans-serif", 16))
-        .draw()
-        .map_err(|e| err(&e))?;
-    draw_curves(&mut chart, series, frame).map_err(|e| err(&e))?;
+        .draw()?;
+    draw_curves(&mut chart, series, frame)
+}
+
+/// A tick label with four significant digits.
+fn tick(v: f64) -> String {
+    if v == 0.0 || (1e-2..1e4).contains(&v.abs()) {
+        let s = format!("{v:.4}");
+        let s = s.trim_end_matches('0');
+        s.trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+/// Data range of the series: `(x0, x1, y0, y1)` with a margin on y, or None if empty.
+fn time_range(series: &[Series]) -> Option<(f64, f64, f64, f64)> {
+    let pts = || series.iter().flat_map(|s| s.points.iter().copied());
+    let (x0, x1) = pts().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (x, _)| {
+        (a.min(x), b.max(x))
+    });
+    let (y0, y1) = pts()
+        .filter(|p| p.1.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (_, y)| {
+            (a.min(y), b.max(y))
+        });
+    if !(x0.is_finite() && y0.is_finite()) {
+        return None;
+    }
+    // A curve constant to 1e-3 of its size is drawn flat, not magnified.
+    let pad = ((y1 - y0) * 0.08)
+        .max(1e-3 * y0.abs().max(y1.abs()))
+        .max(1e-12);
+    Some((x0, x1, y0 - pad, y1 + pad))
+}
+
+/// Panels side by side (one chart per `(title, series)`, each with its own y range), all
+/// against time, 1500 px wide.
+pub fn time_panels(path: &Path, y_label: &str, panels: &[(String, Vec<Series>)]) -> Result<()> {
+    let err = |e: &dyn std::fmt::Display| plot_err(path, e);
+    let root = BitMapBackend::new(path, (500 * panels.len() as u32, 600)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let areas = root.split_evenly((1, panels.len()));
+    for ((title, series), area) in panels.iter().zip(&areas) {
+        let Some((x0, x1, y0, y1)) = time_range(series) else {
+            return Err(err(&format!("panel {title}: nothing to plot")));
+        };
+        let frame = Frame {
+            title,
+            x_label: "t",
+            y_label,
+            height: 600,
+            width: 1,
+            markers: false,
+            legend: SeriesLabelPosition::LowerRight,
+        };
+        draw_panel(area, &frame, x0..x1, y0..y1, series).map_err(|e| err(&e))?;
+    }
     root.present().map_err(|e| err(&e))
 }
 

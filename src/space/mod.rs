@@ -46,7 +46,8 @@ pub struct MassModel {
     pub dim: usize,
     /// Element data, one per element.
     pub elements: Vec<ElementMass>,
-    /// Global dofs of the contact normal displacements (massless under mass redistribution).
+    /// Global dofs of the contact normal displacements (massless under mass redistribution),
+    /// sorted increasingly.
     pub contact_dofs: Vec<usize>,
     /// H_h data (same elements, same order) and dim H_h, when available.
     pub velocity: Option<(Vec<ElementMixed>, usize)>,
@@ -75,7 +76,7 @@ impl MassModel {
 
     /// True when element `el` has a contact dof on component `comp` at local node `a`.
     pub fn is_contact(&self, el: &ElementMass, comp: usize, a: usize) -> bool {
-        el.dofs[comp][a].is_some_and(|d| self.contact_dofs.contains(&d))
+        el.dofs[comp][a].is_some_and(|d| self.contact_dofs.binary_search(&d).is_ok())
     }
 
     /// True when the element touches the contact boundary.

@@ -5,8 +5,9 @@
 //! `q = o − B_N X*`, `Z = A⁻¹ B_Nᵀ` and `D = c B_N Z` (Delassus operator, n_c × n_c). The offset
 //! `o` is the initial gap g₀ for a position-level law (then γ is the gap at the new level) and a
 //! velocity term for Moreau–Jean; `o_i = +∞` excludes point i from the step.
-//! `Z` is kept when it is small (n · n_c ≤ [`STORE_Z_LIMIT`]); otherwise the corrected
-//! state is obtained by a second solve.
+//! `Z` is kept when it is small (entries ≤ [`STORE_Z_LIMIT`]; for a sparse mass its inertial
+//! part is `Z` itself and is not stored twice); otherwise the corrected state is obtained by a
+//! second solve.
 
 use crate::contact::{SolveInfo, Solver};
 use crate::error::{Error, Result};
@@ -14,10 +15,14 @@ use crate::linalg;
 use crate::problem::{Problem, StepOperator};
 use nalgebra::DMatrix;
 
-/// Above this many entries `Z = A⁻¹ B_Nᵀ` is not stored; a second solve is done instead.
-pub const STORE_Z_LIMIT: usize = 20_000_000;
+/// Right-hand sides per blocked solve when forming `Z = A⁻¹ B_Nᵀ`.
+const BLOCK: usize = 64;
 
-/// Columns of `Z = A⁻¹ B_Nᵀ`: displacement part and inertial part, one vector per contact point.
+/// Above this many entries `Z = A⁻¹ B_Nᵀ` is not stored; a second solve is done instead.
+pub const STORE_Z_LIMIT: usize = 30_000_000;
+
+/// Columns of `Z = A⁻¹ B_Nᵀ`: displacement part and, for the mixed mass, inertial part (empty
+/// for a sparse mass, whose inertial variables are the displacements), one vector per point.
 struct Coupling {
     zu: Vec<Vec<f64>>,
     zw: Vec<Vec<f64>>,
@@ -61,23 +66,32 @@ impl ContactStep {
         let mut d = DMatrix::zeros(nc, nc);
         let mut zu = Vec::with_capacity(nc);
         let mut zw = Vec::with_capacity(nc);
-        let store = (n + nw) * nc <= STORE_Z_LIMIT;
-        let mut e = vec![0.0; nc];
-        let mut rhs = vec![0.0; n];
+        let mixed = op.is_mixed();
+        let stored_len = if mixed { n + nw } else { n };
+        let store = stored_len * nc <= STORE_Z_LIMIT;
+        // Columns of Z = A⁻¹ B_Nᵀ by blocks of right-hand sides (blocked triangular solves).
         let mut gcol = vec![0.0; nc];
-        for j in 0..nc {
-            e.fill(0.0);
-            e[j] = 1.0;
-            rhs.fill(0.0);
-            linalg::mul_t_add(&mut rhs, &problem.contact.b_n, &e, 1.0);
-            let (mut u, mut w) = (vec![0.0; n], vec![0.0; nw]);
-            op.solve(&rhs, &mut u, &mut w);
-            gcol.fill(0.0);
-            linalg::mul_add(&mut gcol, &problem.contact.b_n, &u, c);
-            d.set_column(j, &nalgebra::DVector::from_column_slice(&gcol));
-            if store {
-                zu.push(u);
-                zw.push(w);
+        for start in (0..nc).step_by(BLOCK) {
+            let cols = BLOCK.min(nc - start);
+            let mut u = vec![0.0; n * cols];
+            let mut w = vec![0.0; nw * cols];
+            for (i, j, v) in linalg::triplets(&problem.contact.b_n) {
+                if (start..start + cols).contains(&i) {
+                    u[(i - start) * n + j] += v;
+                }
+            }
+            op.solve_columns(&mut u, &mut w, cols);
+            for k in 0..cols {
+                let (uc, wc) = (&u[k * n..(k + 1) * n], &w[k * nw..(k + 1) * nw]);
+                gcol.fill(0.0);
+                linalg::mul_add(&mut gcol, &problem.contact.b_n, uc, c);
+                d.set_column(start + k, &nalgebra::DVector::from_column_slice(&gcol));
+                if store {
+                    zu.push(uc.to_vec());
+                    if mixed {
+                        zw.push(wc.to_vec());
+                    }
+                }
             }
         }
         let d = (&d + d.transpose()) * 0.5;
@@ -122,8 +136,13 @@ impl ContactStep {
                 for (j, &l) in lambda.iter().enumerate() {
                     if l != 0.0 {
                         linalg::axpy(u, -self.c * l, &zu[j]);
-                        linalg::axpy(w, -self.c * l, &zw[j]);
+                        if let Some(zwj) = zw.get(j) {
+                            linalg::axpy(w, -self.c * l, zwj);
+                        }
                     }
+                }
+                if zw.is_empty() {
+                    w.copy_from_slice(u);
                 }
             }
             None => {

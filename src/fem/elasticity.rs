@@ -1,0 +1,139 @@
+//! Isotropic linear elasticity on the reference elements of [`super::reference`]: element stiffness
+//! `K_(a,c),(b,d) = ∫ λ ∂_c φ_a ∂_d φ_b + μ ∂_d φ_a ∂_c φ_b + μ δ_cd ∇φ_a·∇φ_b` (plane strain in 2D:
+//! the 3D Lamé constants), scalar element mass `∫ ρ φ_a φ_b`, mixed mass `∫ ρ ψ_i φ_b` with the
+//! degree-1 basis ψ, and the stress `σ = λ tr ε I + 2 μ ε`. Local dof `(a, c)` has index
+//! `a · dim + c`.
+
+use super::reference::RefElement;
+use nalgebra::{DMatrix, Matrix3};
+
+/// Lamé constants.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lame {
+    /// λ.
+    pub lambda: f64,
+    /// μ (shear modulus).
+    pub mu: f64,
+}
+
+impl Lame {
+    /// From Young's modulus and Poisson's ratio: `λ = Eν/((1+ν)(1−2ν))`, `μ = E/(2(1+ν))`.
+    pub fn from_young_poisson(young: f64, poisson: f64) -> Self {
+        Self {
+            lambda: young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson)),
+            mu: young / (2.0 * (1.0 + poisson)),
+        }
+    }
+}
+
+/// Physical gradients `J⁻ᵀ ∇̂φ` at a point, and `|det J|`.
+fn physical(el: &RefElement, jac: &Matrix3<f64>, xi: [f64; 3]) -> (Vec<f64>, Vec<[f64; 3]>, f64) {
+    let (v, g) = el.eval(xi);
+    let inv_t = jac
+        .try_inverse()
+        .expect("structured cells are non-degenerate")
+        .transpose();
+    let g = g
+        .iter()
+        .map(|gr| {
+            let p = inv_t * nalgebra::Vector3::new(gr[0], gr[1], gr[2]);
+            [p[0], p[1], p[2]]
+        })
+        .collect();
+    (v, g, jac.determinant().abs())
+}
+
+/// Element stiffness (`dim · n` square) of a cell with Jacobian `jac`.
+pub fn element_stiffness(el: &RefElement, jac: &Matrix3<f64>, lame: Lame) -> DMatrix<f64> {
+    let (n, d) = (el.n_nodes(), el.dim);
+    let mut k = DMatrix::zeros(n * d, n * d);
+    for (xi, w) in el.quadrature() {
+        let (_, g, det) = physical(el, jac, xi);
+        let wd = w * det;
+        for a in 0..n {
+            for b in 0..n {
+                let dot: f64 = (0..d).map(|l| g[a][l] * g[b][l]).sum();
+                for c in 0..d {
+                    for e in 0..d {
+                        let mut s = lame.lambda * g[a][c] * g[b][e] + lame.mu * g[a][e] * g[b][c];
+                        if c == e {
+                            s += lame.mu * dot;
+                        }
+                        k[(a * d + c, b * d + e)] += wd * s;
+                    }
+                }
+            }
+        }
+    }
+    k
+}
+
+/// Scalar element mass `∫ρ φ_a φ_b` (`n` square; the same on every component).
+pub fn element_mass(el: &RefElement, jac: &Matrix3<f64>, rho: f64) -> DMatrix<f64> {
+    let n = el.n_nodes();
+    let mut m = DMatrix::zeros(n, n);
+    let det = jac.determinant().abs();
+    for (xi, w) in el.quadrature() {
+        let (v, _) = el.eval(xi);
+        for a in 0..n {
+            for b in 0..n {
+                m[(a, b)] += w * det * rho * v[a] * v[b];
+            }
+        }
+    }
+    m
+}
+
+/// `(C, B)` of the singular dynamic method on one cell: `C_ij = ∫ρ ψ_i ψ_j`, `B_ij = ∫ρ ψ_i φ_j`
+/// with ψ the degree-1 basis of the same shape.
+pub fn mixed_matrices(
+    el: &RefElement,
+    jac: &Matrix3<f64>,
+    rho: f64,
+) -> (DMatrix<f64>, DMatrix<f64>) {
+    let (lin, _) = el.linear();
+    let (n, nl) = (el.n_nodes(), lin.n_nodes());
+    let mut c = DMatrix::zeros(nl, nl);
+    let mut b = DMatrix::zeros(nl, n);
+    for (xi, w) in el.quadrature() {
+        let wd = w * jac.determinant().abs() * rho;
+        let (phi, _) = el.eval(xi);
+        let (psi, _) = lin.eval(xi);
+        for i in 0..nl {
+            for j in 0..nl {
+                c[(i, j)] += wd * psi[i] * psi[j];
+            }
+            for j in 0..n {
+                b[(i, j)] += wd * psi[i] * phi[j];
+            }
+        }
+    }
+    (c, b)
+}
+
+/// Stress tensor at reference point ξ of a cell from its local displacements `u[a·dim + c]`.
+pub fn stress(
+    el: &RefElement,
+    jac: &Matrix3<f64>,
+    lame: Lame,
+    u: &[f64],
+    xi: [f64; 3],
+) -> Matrix3<f64> {
+    let d = el.dim;
+    let (_, g, _) = physical(el, jac, xi);
+    let mut grad = Matrix3::zeros();
+    for (a, ga) in g.iter().enumerate() {
+        for c in 0..d {
+            for l in 0..d {
+                grad[(c, l)] += u[a * d + c] * ga[l];
+            }
+        }
+    }
+    let eps = (grad + grad.transpose()) * 0.5;
+    let mut sigma = eps * (2.0 * lame.mu);
+    let tr = eps.trace();
+    for c in 0..d {
+        sigma[(c, c)] += lame.lambda * tr;
+    }
+    sigma
+}
