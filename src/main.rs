@@ -156,7 +156,10 @@ fn sweep(cases: &[PathBuf], out: &Path, quick: bool, shard: Option<(usize, usize
     }
     std::fs::create_dir_all(out).map_err(|e| dyncontact::Error::io(out, e))?;
     eprintln!("running {} runs", jobs.len());
-    let records = harness::run_jobs(&jobs, true);
+    let mut records = harness::run_jobs(&jobs, true);
+    if shard.is_none() {
+        harness::reference_errors(&mut records);
+    }
     let name = shard.map_or("records.csv".to_string(), |(i, n)| {
         format!("records-{i}-of-{n}.csv")
     });

@@ -66,7 +66,8 @@ pub fn report(cases_dir: &Path, out: &Path, opts: Options) -> Result<Vec<RunReco
     for f in &files {
         jobs.extend(harness::jobs(f, opts.quick)?);
     }
-    let records = harness::run_jobs(&jobs, opts.progress);
+    let mut records = harness::run_jobs(&jobs, opts.progress);
+    harness::reference_errors(&mut records);
     let mut figures = Vec::new();
     for f in &files {
         figures.extend(time_histories(f, out, opts.quick)?);

@@ -81,5 +81,9 @@ fn summary_metrics_of_every_combination_are_unchanged() {
         }
     }
     // bar1d 5 spaces × 8 schemes, block2d 5 × 2, block3d 5 × 1, spring_mass 7 schemes.
-    assert_eq!(count, 5 * 8 + 5 * 2 + 5 + 7, "one snapshot per case × space × scheme");
+    assert_eq!(
+        count,
+        5 * 8 + 5 * 2 + 5 + 7,
+        "one snapshot per case × space × scheme"
+    );
 }

@@ -160,6 +160,7 @@ pub fn read_records(path: &Path) -> Result<Vec<RunRecord>> {
                     impact_time_err: float("impact_time_err")?,
                 },
             },
+            probe: Vec::new(),
         });
     }
     Ok(out)
