@@ -339,7 +339,10 @@ mod tests {
     fn reference_errors_compare_against_the_finest_level() {
         let mut r = vec![record(0, 0.1, 0.25), record(1, 0.01, 0.0)];
         reference_errors(&mut r);
-        let (eu, es) = (r[0].summary.metrics.err_u_contact, r[0].summary.metrics.err_sigma_l2);
+        let (eu, es) = (
+            r[0].summary.metrics.err_u_contact,
+            r[0].summary.metrics.err_sigma_l2,
+        );
         // u differs by 0.25 plus the interpolation error of sin at dt = 0.01 (< 1.3e-5).
         assert!((eu.unwrap() - 0.25).abs() < 2e-5, "{eu:?}");
         assert!(es.unwrap() < 1e-4, "{es:?}");

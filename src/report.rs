@@ -288,17 +288,7 @@ fn time_histories(path: &Path, out: &Path, quick: bool) -> Result<Vec<Figure>> {
     let (runs, left_out) = split_failed(curves);
     let mut figures = Vec::new();
     for (what, file, get) in QUANTITIES_VS_TIME {
-        let mut series: Vec<Series> = runs
-            .iter()
-            .enumerate()
-            .map(|(k, (label, r))| {
-                Series::solid(
-                    label.clone(),
-                    curve_of(r, get.0),
-                    PALETTE[k % PALETTE.len()],
-                )
-            })
-            .collect();
+        let mut series = solid_curves(&runs, get.0);
         if let Some((_, r)) = runs.first() {
             let pts: Vec<(f64, f64)> = r
                 .rows
@@ -344,8 +334,15 @@ const QUANTITIES_VS_TIME: [(&str, &str, RowAccess); 2] = [
     ),
 ];
 
-fn curve_of(r: &RunResult, get: fn(&Row) -> f64) -> Vec<(f64, f64)> {
-    r.rows.iter().map(|x| (x.t, get(x))).collect()
+/// One solid curve of `get` against time per labelled run, in palette order.
+fn solid_curves(runs: &[(String, RunResult)], get: fn(&Row) -> f64) -> Vec<Series> {
+    runs.iter()
+        .enumerate()
+        .map(|(k, (label, r))| {
+            let pts = r.rows.iter().map(|x| (x.t, get(x))).collect();
+            Series::solid(label.clone(), pts, PALETTE[k % PALETTE.len()])
+        })
+        .collect()
 }
 
 /// The successful runs, and a caption sentence naming the failed ones.
@@ -413,20 +410,7 @@ fn history_panels(
         let panels: Vec<(String, Vec<Series>)> = panels_runs
             .iter()
             .filter(|(_, runs)| !runs.is_empty())
-            .map(|(space, runs)| {
-                let series = runs
-                    .iter()
-                    .enumerate()
-                    .map(|(k, (label, r))| {
-                        Series::solid(
-                            label.clone(),
-                            curve_of(r, get.0),
-                            PALETTE[k % PALETTE.len()],
-                        )
-                    })
-                    .collect();
-                (format!("{kind}: {space}"), series)
-            })
+            .map(|(space, runs)| (format!("{kind}: {space}"), solid_curves(runs, get.0)))
             .collect();
         if panels.is_empty() {
             continue;

@@ -62,15 +62,7 @@ fn plot_err(path: &Path, e: impl std::fmt::Display) -> Error {
 /// Line plot of several series against time, 1000×600 px.
 pub fn time_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> Result<()> {
     let (x0, x1, y0, y1) = time_range(series).ok_or_else(|| plot_err(path, "nothing to plot"))?;
-    let frame = Frame {
-        title,
-        x_label: "t",
-        y_label,
-        height: 600,
-        width: 1,
-        markers: false,
-        legend: SeriesLabelPosition::UpperRight,
-    };
+    let frame = Frame::time(title, y_label, SeriesLabelPosition::UpperRight);
     render(path, &frame, x0..x1, y0..y1, series)
 }
 
@@ -85,6 +77,21 @@ struct Frame<'a> {
     /// Draw a marker at every point of solid curves.
     markers: bool,
     legend: SeriesLabelPosition,
+}
+
+impl<'a> Frame<'a> {
+    /// A plot against time: 600 px high, thin curves, no markers.
+    fn time(title: &'a str, y_label: &'a str, legend: SeriesLabelPosition) -> Self {
+        Self {
+            title,
+            x_label: "t",
+            y_label,
+            height: 600,
+            width: 1,
+            markers: false,
+            legend,
+        }
+    }
 }
 
 /// Draws `series` on axes `x` × `y` (linear or log ranges) and writes the PNG.
@@ -171,15 +178,7 @@ pub fn time_panels(path: &Path, y_label: &str, panels: &[(String, Vec<Series>)])
         let Some((x0, x1, y0, y1)) = time_range(series) else {
             return Err(err(&format!("panel {title}: nothing to plot")));
         };
-        let frame = Frame {
-            title,
-            x_label: "t",
-            y_label,
-            height: 600,
-            width: 1,
-            markers: false,
-            legend: SeriesLabelPosition::LowerRight,
-        };
+        let frame = Frame::time(title, y_label, SeriesLabelPosition::LowerRight);
         draw_panel(area, &frame, x0..x1, y0..y1, series).map_err(|e| err(&e))?;
     }
     root.present().map_err(|e| err(&e))
