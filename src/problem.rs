@@ -58,7 +58,8 @@ impl Inertia {
     /// inertial vector `y`, as a force on the displacement dofs.
     pub fn apply_add(&self, out: &mut [f64], y: &[f64], alpha: f64) {
         match self {
-            Inertia::Sparse { m } => linalg::mul_add(out, m, y, alpha),
+            // M is symmetric: the gather form `Mᵀ y` has no scattered stores.
+            Inertia::Sparse { m } => linalg::mul_t_add(out, m, y, alpha),
             Inertia::Mixed { b, .. } => linalg::mul_t_add(out, b, y, alpha),
         }
     }
@@ -204,15 +205,17 @@ impl StepOperator {
     /// Solves the step system with displacement right-hand side `rhs_u` (inertial rows 0),
     /// writing the displacements to `u` and the inertial variables to `w`. Allocates nothing.
     pub fn solve(&mut self, rhs_u: &[f64], u: &mut [f64], w: &mut [f64]) {
+        if !self.mixed {
+            u.copy_from_slice(rhs_u);
+            self.factor.solve_in_place(u);
+            w.copy_from_slice(u);
+            return;
+        }
         self.x[..self.n].copy_from_slice(rhs_u);
         self.x[self.n..].fill(0.0);
         self.factor.solve_in_place(&mut self.x);
         u.copy_from_slice(&self.x[..self.n]);
-        if self.mixed {
-            w.copy_from_slice(&self.x[self.n..]);
-        } else {
-            w.copy_from_slice(&self.x[..self.n]);
-        }
+        w.copy_from_slice(&self.x[self.n..]);
     }
 }
 

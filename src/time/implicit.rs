@@ -38,6 +38,8 @@ pub struct ContactStep {
     c: f64,
     q: Vec<f64>,
     rhs: Vec<f64>,
+    /// Rows of `B_N` as `(dof, value)` lists (n_c short rows: `B_N U` without a pass over n).
+    b_rows: Vec<Vec<(usize, f64)>>,
 }
 
 impl ContactStep {
@@ -103,6 +105,13 @@ impl ContactStep {
             c,
             q: vec![0.0; nc],
             rhs: vec![0.0; n],
+            b_rows: {
+                let mut rows = vec![Vec::new(); nc];
+                for (i, j, v) in linalg::triplets(&problem.contact.b_n) {
+                    rows[i].push((j, v));
+                }
+                rows
+            },
         })
     }
 
@@ -123,7 +132,9 @@ impl ContactStep {
     ) -> Result<SolveInfo> {
         self.op.solve(r, u, w);
         self.q.copy_from_slice(offset);
-        linalg::mul_add(&mut self.q, &problem.contact.b_n, u, -1.0);
+        for (q, row) in self.q.iter_mut().zip(&self.b_rows) {
+            *q -= row.iter().map(|&(j, v)| v * u[j]).sum::<f64>();
+        }
         let info = self
             .solver
             .solve(&self.d, &self.q, lambda)

@@ -96,8 +96,15 @@ impl Integrator for NewmarkIntegrator<'_> {
     fn step(&mut self) -> Result<StepInfo> {
         let (dt, beta, gamma) = (self.s.dt, self.p.beta, self.p.gamma);
         let c = beta * dt * dt;
-        for i in 0..self.s.w.len() {
-            self.w_pred[i] = self.s.w[i] + dt * self.s.v[i] + dt * dt * (0.5 - beta) * self.a[i];
+        let k = dt * dt * (0.5 - beta);
+        for (((wp, &w), &v), &a) in self
+            .w_pred
+            .iter_mut()
+            .zip(&self.s.w)
+            .zip(&self.s.v)
+            .zip(&self.a)
+        {
+            *wp = w + dt * v + k * a;
         }
         self.s.rhs_from_load(c);
         if self.alpha != 0.0 {
@@ -113,10 +120,13 @@ impl Integrator for NewmarkIntegrator<'_> {
             .inertia
             .apply_add(&mut self.s.rhs, &self.w_pred, 1.0);
         let info = self.s.solve_position()?;
-        for i in 0..self.s.w.len() {
-            let a_new = (self.s.w[i] - self.w_pred[i]) / c;
-            self.s.v[i] += dt * ((1.0 - gamma) * self.a[i] + gamma * a_new);
-            self.a[i] = a_new;
+        let inv_c = 1.0 / c;
+        let (ga, gb) = (dt * (1.0 - gamma), dt * gamma);
+        let pairs = self.s.w.iter().zip(&self.w_pred);
+        for ((v, a), (&w, &wp)) in self.s.v.iter_mut().zip(self.a.iter_mut()).zip(pairs) {
+            let a_new = (w - wp) * inv_c;
+            *v += ga * *a + gb * a_new;
+            *a = a_new;
         }
         self.s.finish(info)
     }
