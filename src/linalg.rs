@@ -496,6 +496,13 @@ mod tests {
         t.build().unwrap()
     }
 
+    fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max)
+    }
+
     #[test]
     fn cholesky_and_lu_solve_the_same_system() {
         let a = laplacian(50);
@@ -507,11 +514,7 @@ mod tests {
         ] {
             let mut y = b.clone();
             f.solve_in_place(&mut y);
-            let err = y
-                .iter()
-                .zip(&x)
-                .map(|(p, q)| (p - q).abs())
-                .fold(0.0, f64::max);
+            let err = max_diff(&y, &x);
             assert!(err < 1e-11, "solve error {err}");
         }
     }
@@ -544,11 +547,7 @@ mod tests {
             "expected faer to choose a simplicial factor"
         );
         f.solve_in_place(&mut y);
-        let err = y
-            .iter()
-            .zip(&x)
-            .map(|(p, q)| (p - q).abs())
-            .fold(0.0, f64::max);
+        let err = max_diff(&y, &x);
         assert!(err < 1e-12, "solve error {err}");
     }
 
