@@ -229,3 +229,29 @@ fn run_writes_the_documented_outputs() {
         ts
     );
 }
+
+/// Block case files: out-of-range material, wrong geometry or cell type name the field.
+#[test]
+fn bad_block_case_files_give_errors_naming_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string("cases/block2d.toml").unwrap();
+    let cases = [
+        ("poisson = 0.3", "poisson = 0.5", "material.poisson"),
+        ("size = [1.0, 1.0]", "size = [1.0]", "geometry.size"),
+        ("cells = \"quad\"", "cells = \"hex\"", "mesh.cells"),
+        ("elements = 10", "elements = 0", "mesh.elements"),
+        ("density = 1.0", "density = -1.0", "material.density"),
+    ];
+    for (from, to, needle) in cases {
+        assert!(text.contains(from), "test setup: `{from}`");
+        let path = dir.path().join("block.toml");
+        std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+        let out = dyncontact(&[
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            dir.path().join("o").to_str().unwrap(),
+        ]);
+        assert_clear_error(&out, needle);
+    }
+}
