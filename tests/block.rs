@@ -15,13 +15,15 @@ use nalgebra::Matrix3;
 use std::path::Path;
 
 /// Every element type: (case file, cells, degree).
-const ELEMENTS: [(&str, &str, usize); 6] = [
+const ELEMENTS: [(&str, &str, usize); 8] = [
     ("cases/block2d.toml", "triangle", 1),
     ("cases/block2d.toml", "triangle", 2),
     ("cases/block2d.toml", "quad", 1),
     ("cases/block2d.toml", "quad", 2),
     ("cases/block3d.toml", "hex", 1),
     ("cases/block3d.toml", "hex", 2),
+    ("cases/block3d.toml", "tet", 1),
+    ("cases/block3d.toml", "tet", 2),
 ];
 
 fn block(file: &str, cells: &str, o: Overrides) -> Block {
@@ -133,7 +135,8 @@ fn linear_fields_give_the_exact_constant_stress() {
 /// the bottom layer of cells, by design). Mass redistribution keeps the centre of mass
 /// `x_kᵀ M 1_c = ρ ∫ x_k` exactly on P2/Q2 (triangles, quadrilaterals, hexahedra) and for the
 /// tangential components everywhere; for the normal component it keeps the tangential moments on
-/// Q1, and neither moment on P1 triangles (one node left per boundary triangle). The shift is the
+/// Q1, and neither moment on P1 simplices (one node left per boundary triangle; on tetrahedra at
+/// most two, in a line or a point). The shift is the
 /// bottom layer's mass times O(h): O(h²) (measured on 2 cells: 0.625 instead of 0.5).
 #[test]
 fn every_space_keeps_the_total_mass() {
@@ -169,7 +172,7 @@ fn every_space_keeps_the_total_mass() {
                         println!("{cells} P{degree} MR: moment x_{k} of comp {c}: {got:.6} (exact {exact:.6})");
                         // Element-wise, the remaining nodes carry the moment unless they all
                         // lie on one line parallel to Γ_C (Q1: normal moment of the normal
-                        // component) or reduce to one node (P1 triangles: both moments of it).
+                        // component) or are too few (P1 simplices: both moments of it).
                         let tensor = b.mesh.element.shape == Shape::Tensor;
                         if c + 1 < d || degree == 2 || (tensor && k + 1 < d) {
                             assert!(
@@ -261,23 +264,30 @@ fn seed_figures_three_and_four() {
     assert!(mr < 0.5 && pc > 5.0 * mr);
 }
 
-/// Triangles P1/P2 run the same case (a smoke test of the triangle elements end to end).
+/// Triangles and tetrahedra P1/P2 run the blocks with mass redistribution (end to end: energy
+/// drift below 1e-2, no penetration).
 #[test]
-fn triangles_run_the_block() {
-    for degree in [1, 2] {
-        let o = Overrides {
-            degree: Some(degree),
-            elements: Some(6),
-            dt: Some(1e-2),
-            ..Default::default()
-        };
-        let b = block("cases/block2d.toml", "triangle", o);
-        assert_eq!(b.mesh.element.shape, Shape::Triangle);
-        let m = run(&b as &dyn Case).unwrap().summary.metrics;
-        assert!(
-            m.energy_drift < 1e-2 && m.max_penetration < 1e-12,
-            "P{degree}: {m:?}"
-        );
+fn simplices_run_the_blocks() {
+    for (file, cells, n) in [
+        ("cases/block2d.toml", "triangle", 6),
+        ("cases/block3d.toml", "tet", 3),
+    ] {
+        for degree in [1, 2] {
+            let o = Overrides {
+                degree: Some(degree),
+                elements: Some(n),
+                dt: Some(1e-2),
+                ..Default::default()
+            };
+            let b = block(file, cells, o);
+            assert_eq!(b.mesh.element.shape, Shape::Simplex);
+            let m = run(&b as &dyn Case).unwrap().summary.metrics;
+            println!("{cells} P{degree}: drift {:.2e}", m.energy_drift);
+            assert!(
+                m.energy_drift < 1e-2 && m.max_penetration < 1e-12,
+                "{cells} P{degree}: {m:?}"
+            );
+        }
     }
 }
 

@@ -52,7 +52,7 @@ pub struct Geometry {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeshSpec {
-    /// `quad` or `triangle` (2D), `hex` (3D).
+    /// `quad` or `triangle` (2D), `hex` or `tet` (3D).
     pub cells: String,
     /// Polynomial degree (1 or 2).
     pub degree: usize,
@@ -135,12 +135,16 @@ impl Block {
         crate::error::non_negative("geometry.gravity", g.gravity)?;
         let shape = match (spec.mesh.cells.as_str(), dim) {
             ("quad", 2) | ("hex", 3) => Shape::Tensor,
-            ("triangle", 2) => Shape::Triangle,
+            ("triangle", 2) | ("tet", 3) => Shape::Simplex,
             (c, _) => {
                 return Err(Error::invalid(
                     "mesh.cells",
                     c,
-                    if dim == 2 { "quad or triangle" } else { "hex" },
+                    if dim == 2 {
+                        "quad or triangle"
+                    } else {
+                        "hex or tet"
+                    },
                 ))
             }
         };

@@ -2,10 +2,10 @@
 //! parallelogram/box cells and straight triangles, so the Jacobian is constant on a cell):
 //! - tensor elements Q1/Q2 on [0, 1]^d, local nodes in lexicographic order (x fastest) on the
 //!   (p + 1)^d grid of equispaced points;
-//! - triangles P1/P2 on {ξ, η ≥ 0, ξ + η ≤ 1}: vertices (0,0), (1,0), (0,1), then for P2 the edge
-//!   midpoints of edges 01, 12, 20.
+//! - simplices P1/P2 (triangles, tetrahedra) on {ξ ≥ 0, Σ ξ_k ≤ 1}: the vertices 0 and e_k, then
+//!   for P2 the edge midpoints in [`EDGES_2D`] / [`EDGES_3D`] order.
 //!
-//! Quadrature: tensor Gauss–Legendre with p + 2 points per direction; triangles through the
+//! Quadrature: tensor Gauss–Legendre with p + 2 points per direction; simplices through the
 //! collapsed (Duffy) map of a tensor rule, exact for the polynomial degrees used here.
 
 use super::quadrature::gauss_legendre_01;
@@ -13,8 +13,8 @@ use super::quadrature::gauss_legendre_01;
 /// Cell shape.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Shape {
-    /// Triangle (2D simplex).
-    Triangle,
+    /// Simplex: triangle (d = 2) or tetrahedron (d = 3).
+    Simplex,
     /// Quadrilateral (d = 2) or hexahedron (d = 3).
     Tensor,
 }
@@ -29,6 +29,11 @@ pub struct RefElement {
     /// Degree.
     pub degree: usize,
 }
+
+/// Edges of the triangle (P2 midpoint order).
+pub const EDGES_2D: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
+/// Edges of the tetrahedron (P2 midpoint order).
+pub const EDGES_3D: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
 
 /// 1D Lagrange basis of degree 1 or 2 on [0, 1] at equispaced nodes: (value, derivative).
 fn lagrange_1d(degree: usize, i: usize, x: f64) -> (f64, f64) {
@@ -45,7 +50,14 @@ impl RefElement {
     /// Number of local nodes.
     pub fn n_nodes(&self) -> usize {
         match self.shape {
-            Shape::Triangle => (self.degree + 1) * (self.degree + 2) / 2,
+            Shape::Simplex => {
+                let v = self.dim + 1;
+                if self.degree == 1 {
+                    v
+                } else {
+                    v + self.edges().len()
+                }
+            }
             Shape::Tensor => (self.degree + 1).pow(self.dim as u32),
         }
     }
@@ -65,21 +77,23 @@ impl RefElement {
                 let c = |k: usize| if k < self.dim { ix[k] as f64 / p } else { 0.0 };
                 [c(0), c(1), c(2)]
             }
-            Shape::Triangle => [
-                [0.0, 0.0, 0.0],
-                [1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.5, 0.0, 0.0],
-                [0.5, 0.5, 0.0],
-                [0.0, 0.5, 0.0],
-            ][a],
+            Shape::Simplex => {
+                let vertex = |v: usize| std::array::from_fn(|k| f64::from(v > 0 && k + 1 == v));
+                if a <= self.dim {
+                    vertex(a)
+                } else {
+                    let (p, q) = self.edges()[a - self.dim - 1];
+                    let (x, y): ([f64; 3], [f64; 3]) = (vertex(p), vertex(q));
+                    std::array::from_fn(|k| 0.5 * (x[k] + y[k]))
+                }
+            }
         }
     }
 
     /// True when local node `a` is a vertex of the cell.
     pub fn is_vertex(&self, a: usize) -> bool {
         match self.shape {
-            Shape::Triangle => a < 3,
+            Shape::Simplex => a <= self.dim,
             Shape::Tensor => self.tensor_index(a)[..self.dim]
                 .iter()
                 .all(|&i| i == 0 || i == self.degree),
@@ -106,26 +120,34 @@ impl RefElement {
                     }
                 }
             }
-            Shape::Triangle => {
-                let (x, y) = (xi[0], xi[1]);
-                let l = [1.0 - x - y, x, y];
-                let dl = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
-                for a in 0..3 {
-                    if self.degree == 1 {
-                        v[a] = l[a];
-                        g[a] = [dl[a][0], dl[a][1], 0.0];
+            Shape::Simplex => {
+                let d = self.dim;
+                let mut l = [0.0; 4];
+                let mut dl = [[0.0; 3]; 4];
+                l[0] = 1.0 - xi[..d].iter().sum::<f64>();
+                for k in 0..d {
+                    l[k + 1] = xi[k];
+                    dl[0][k] = -1.0;
+                    dl[k + 1][k] = 1.0;
+                }
+                for a in 0..=d {
+                    let s = if self.degree == 1 {
+                        1.0
                     } else {
-                        v[a] = l[a] * (2.0 * l[a] - 1.0);
-                        let s = 4.0 * l[a] - 1.0;
-                        g[a] = [s * dl[a][0], s * dl[a][1], 0.0];
-                    }
+                        4.0 * l[a] - 1.0
+                    };
+                    v[a] = if self.degree == 1 {
+                        l[a]
+                    } else {
+                        l[a] * (2.0 * l[a] - 1.0)
+                    };
+                    g[a] = std::array::from_fn(|k| s * dl[a][k]);
                 }
                 if self.degree == 2 {
-                    for (m, (p, q)) in [(0, 1), (1, 2), (2, 0)].into_iter().enumerate() {
-                        v[3 + m] = 4.0 * l[p] * l[q];
-                        for k in 0..2 {
-                            g[3 + m][k] = 4.0 * (dl[p][k] * l[q] + l[p] * dl[q][k]);
-                        }
+                    for (m, &(p, q)) in self.edges().iter().enumerate() {
+                        v[d + 1 + m] = 4.0 * l[p] * l[q];
+                        g[d + 1 + m] =
+                            std::array::from_fn(|k| 4.0 * (dl[p][k] * l[q] + l[p] * dl[q][k]));
                     }
                 }
             }
@@ -150,16 +172,34 @@ impl RefElement {
                 }
                 out
             }
-            Shape::Triangle => {
-                // (u, v) ∈ [0,1]² ↦ (u, v (1 − u)), Jacobian 1 − u.
+            Shape::Simplex => {
+                // (u, v, w) ∈ [0,1]^d ↦ (u, v(1 − u), w(1 − u)(1 − v)), Jacobian
+                // (1 − u)^{d−1} (1 − v)^{d−2}.
                 let mut out = Vec::new();
+                let wmax = if self.dim == 3 { rule.len() } else { 1 };
                 for &(u, wu) in &rule {
-                    for &(s, ws) in &rule {
-                        out.push(([u, s * (1.0 - u), 0.0], wu * ws * (1.0 - u)));
+                    for &(v, wv) in &rule {
+                        for &(w, ww) in rule.iter().take(wmax) {
+                            if self.dim == 2 {
+                                out.push(([u, v * (1.0 - u), 0.0], wu * wv * (1.0 - u)));
+                            } else {
+                                let (a, b) = (1.0 - u, 1.0 - v);
+                                out.push(([u, v * a, w * a * b], wu * wv * ww * a * a * b));
+                            }
+                        }
                     }
                 }
                 out
             }
+        }
+    }
+
+    /// The edges of a simplex (P2 midpoint order).
+    pub fn edges(&self) -> &'static [(usize, usize)] {
+        if self.dim == 2 {
+            &EDGES_2D
+        } else {
+            &EDGES_3D
         }
     }
 
@@ -186,21 +226,11 @@ mod tests {
     fn elements() -> Vec<RefElement> {
         let mut v = Vec::new();
         for degree in [1, 2] {
-            v.push(RefElement {
-                shape: Shape::Triangle,
-                dim: 2,
-                degree,
-            });
-            v.push(RefElement {
-                shape: Shape::Tensor,
-                dim: 2,
-                degree,
-            });
-            v.push(RefElement {
-                shape: Shape::Tensor,
-                dim: 3,
-                degree,
-            });
+            for shape in [Shape::Simplex, Shape::Tensor] {
+                for dim in [2, 3] {
+                    v.push(RefElement { shape, dim, degree });
+                }
+            }
         }
         v
     }
@@ -224,14 +254,19 @@ mod tests {
         for e in elements() {
             let q = e.quadrature();
             let area: f64 = q.iter().map(|p| p.1).sum();
-            let want = if e.shape == Shape::Triangle { 0.5 } else { 1.0 };
+            let simplex = e.shape == Shape::Simplex;
+            let want = match (simplex, e.dim) {
+                (false, _) => 1.0,
+                (true, 2) => 0.5,
+                _ => 1.0 / 6.0,
+            };
             assert!((area - want).abs() < 1e-14);
-            // ∫ x² over the cell: 1/12 (triangle), 1/3 (box).
+            // ∫ x² over the cell: 1/12 (triangle), 1/60 (tetrahedron), 1/3 (box).
             let x2: f64 = q.iter().map(|p| p.1 * p.0[0] * p.0[0]).sum();
-            let want = if e.shape == Shape::Triangle {
-                1.0 / 12.0
-            } else {
-                1.0 / 3.0
+            let want = match (simplex, e.dim) {
+                (false, _) => 1.0 / 3.0,
+                (true, 2) => 1.0 / 12.0,
+                _ => 1.0 / 60.0,
             };
             assert!((x2 - want).abs() < 1e-14);
         }

@@ -1,5 +1,6 @@
 //! Structured meshes of a rectangle (2D: quadrilaterals, or triangles by splitting each
-//! quadrilateral along its (0,0)–(1,1) diagonal) and of a box (3D: hexahedra), of degree 1 or 2.
+//! quadrilateral along its (0,0)–(1,1) diagonal) and of a box (3D: hexahedra, or the six Kuhn
+//! tetrahedra of each hexahedron around its (0,0,0)–(1,1,1) diagonal), of degree 1 or 2.
 //!
 //! Nodes form the grid of `degree · n_k + 1` equispaced points per direction (every P2/Q2 node is
 //! a grid point, including the quadrilateral centre used by the split triangles' diagonal
@@ -29,9 +30,6 @@ impl StructuredMesh {
     /// The mesh of the box `size` (first `element.dim` entries used) with `cells` per direction.
     pub fn new(element: RefElement, cells: [usize; 3], size: [f64; 3]) -> Result<Self> {
         let dim = element.dim;
-        if element.shape == Shape::Triangle && dim != 2 {
-            return Err(Error::Unsupported("triangles are 2D only".into()));
-        }
         if let Some(c) = cells[..dim].iter().find(|&&c| c == 0) {
             return Err(Error::invalid("mesh.elements", c, "must be ≥ 1"));
         }
@@ -71,17 +69,23 @@ impl StructuredMesh {
                                 .collect();
                             connectivity.push(local);
                         }
-                        Shape::Triangle => {
-                            // Vertices in units of the cell, doubled so that midpoints are integers.
-                            for tri in [[(0, 0), (2, 0), (2, 2)], [(0, 0), (2, 2), (0, 2)]] {
-                                let at = |(a, b): (usize, usize)| {
-                                    id(origin[0] + a * p / 2, origin[1] + b * p / 2, 0)
+                        Shape::Simplex => {
+                            for simplex in simplices(dim) {
+                                // Vertex corners in doubled cell units, so midpoints are integers.
+                                let at = |c: [usize; 3]| {
+                                    id(
+                                        origin[0] + c[0] * p / 2,
+                                        origin[1] + c[1] * p / 2,
+                                        origin[2] + c[2] * p / 2,
+                                    )
                                 };
-                                let mut local: Vec<usize> = tri.iter().map(|&v| at(v)).collect();
+                                let mut local: Vec<usize> =
+                                    simplex.iter().map(|&v| at(v)).collect();
                                 if p == 2 {
-                                    for (s, t) in [(0, 1), (1, 2), (2, 0)] {
-                                        let m =
-                                            ((tri[s].0 + tri[t].0) / 2, (tri[s].1 + tri[t].1) / 2);
+                                    for &(s, t) in element.edges() {
+                                        let m = std::array::from_fn(|k| {
+                                            (simplex[s][k] + simplex[t][k]) / 2
+                                        });
                                         local.push(at(m));
                                     }
                                 }
@@ -102,6 +106,7 @@ impl StructuredMesh {
     }
 
     /// Spatial dimension.
+    #[inline]
     pub fn dim(&self) -> usize {
         self.element.dim
     }
@@ -115,7 +120,7 @@ impl StructuredMesh {
         let p = self.element.degree;
         for k in 0..self.dim() {
             let a = match self.element.shape {
-                Shape::Triangle => k + 1,
+                Shape::Simplex => k + 1,
                 Shape::Tensor => p * (p + 1).pow(k as u32),
             };
             let xa = self.nodes[local[a]];
@@ -172,19 +177,69 @@ impl StructuredMesh {
     }
 }
 
+/// Positively oriented simplices of the unit cell (corners in doubled units: 0 or 2): two
+/// triangles around the (0,0)–(1,1) diagonal, or the six Kuhn tetrahedra around (0,0,0)–(1,1,1).
+fn simplices(dim: usize) -> Vec<Vec<[usize; 3]>> {
+    if dim == 2 {
+        return vec![
+            vec![[0, 0, 0], [2, 0, 0], [2, 2, 0]],
+            vec![[0, 0, 0], [2, 2, 0], [0, 2, 0]],
+        ];
+    }
+    let perms = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
+    perms
+        .iter()
+        .map(|order| {
+            let mut corner = [0; 3];
+            let mut verts = vec![corner];
+            for &k in order {
+                corner[k] = 2;
+                verts.push(corner);
+            }
+            // Odd permutations give negatively oriented tetrahedra: swap two vertices.
+            let e = |v: usize| -> [f64; 3] {
+                std::array::from_fn(|k| verts[v][k] as f64 - verts[0][k] as f64)
+            };
+            let (a, b, c) = (e(1), e(2), e(3));
+            let det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]);
+            if det < 0.0 {
+                verts.swap(2, 3);
+            }
+            verts
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn cells_cover_the_box_and_gamma_c_has_the_right_vertices() {
-        for (shape, dim) in [(Shape::Triangle, 2), (Shape::Tensor, 2), (Shape::Tensor, 3)] {
+        for (shape, dim) in [
+            (Shape::Simplex, 2),
+            (Shape::Simplex, 3),
+            (Shape::Tensor, 2),
+            (Shape::Tensor, 3),
+        ] {
             for degree in [1, 2] {
                 let e = RefElement { shape, dim, degree };
                 let m = StructuredMesh::new(e, [3, 2, 2], [1.5, 1.0, 1.0]).unwrap();
                 let vol: f64 = (0..m.connectivity.len())
                     .map(|c| {
-                        let meas = if shape == Shape::Triangle { 0.5 } else { 1.0 };
+                        let meas = match (shape, dim) {
+                            (Shape::Tensor, _) => 1.0,
+                            (_, 2) => 0.5,
+                            _ => 1.0 / 6.0,
+                        };
                         m.jacobian(c).1.determinant() * meas
                     })
                     .sum();
