@@ -28,6 +28,11 @@ struct Coupling {
     zw: Vec<Vec<f64>>,
 }
 
+/// `Σ v u_j` over a sparse row of `(j, v)`.
+fn row_dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
+    row.iter().map(|&(j, v)| v * u[j]).sum()
+}
+
 /// Constant step operator with its contact coupling.
 pub struct ContactStep {
     op: StepOperator,
@@ -71,23 +76,26 @@ impl ContactStep {
         let mixed = op.is_mixed();
         let stored_len = if mixed { n + nw } else { n };
         let store = stored_len * nc <= STORE_Z_LIMIT;
+        let mut b_rows = vec![Vec::new(); nc];
+        for (i, j, v) in linalg::triplets(&problem.contact.b_n) {
+            b_rows[i].push((j, v));
+        }
         // Columns of Z = A⁻¹ B_Nᵀ by blocks of right-hand sides (blocked triangular solves).
-        let mut gcol = vec![0.0; nc];
         for start in (0..nc).step_by(BLOCK) {
             let cols = BLOCK.min(nc - start);
             let mut u = vec![0.0; n * cols];
             let mut w = vec![0.0; nw * cols];
-            for (i, j, v) in linalg::triplets(&problem.contact.b_n) {
-                if (start..start + cols).contains(&i) {
-                    u[(i - start) * n + j] += v;
+            for (k, row) in b_rows[start..start + cols].iter().enumerate() {
+                for &(j, v) in row {
+                    u[k * n + j] += v;
                 }
             }
             op.solve_columns(&mut u, &mut w, cols);
             for k in 0..cols {
                 let (uc, wc) = (&u[k * n..(k + 1) * n], &w[k * nw..(k + 1) * nw]);
-                gcol.fill(0.0);
-                linalg::mul_add(&mut gcol, &problem.contact.b_n, uc, c);
-                d.set_column(start + k, &nalgebra::DVector::from_column_slice(&gcol));
+                for (i, row) in b_rows.iter().enumerate() {
+                    d[(i, start + k)] = c * row_dot(row, uc);
+                }
                 if store {
                     zu.push(uc.to_vec());
                     if mixed {
@@ -105,13 +113,7 @@ impl ContactStep {
             c,
             q: vec![0.0; nc],
             rhs: vec![0.0; n],
-            b_rows: {
-                let mut rows = vec![Vec::new(); nc];
-                for (i, j, v) in linalg::triplets(&problem.contact.b_n) {
-                    rows[i].push((j, v));
-                }
-                rows
-            },
+            b_rows,
         })
     }
 
@@ -133,7 +135,7 @@ impl ContactStep {
         self.op.solve(r, u, w);
         self.q.copy_from_slice(offset);
         for (q, row) in self.q.iter_mut().zip(&self.b_rows) {
-            *q -= row.iter().map(|&(j, v)| v * u[j]).sum::<f64>();
+            *q -= row_dot(row, u);
         }
         let info = self
             .solver
