@@ -91,6 +91,48 @@ pub struct RunRecord {
     pub probe: Vec<(f64, f64, f64)>,
 }
 
+impl RunRecord {
+    /// The run series a record belongs to: case × sweep × space × scheme × parameters (its
+    /// levels differ only in h and dt).
+    pub fn series_key(&self) -> (String, String, String, String, String) {
+        let s = &self.summary;
+        (
+            s.case.clone(),
+            self.sweep.clone(),
+            s.space.clone(),
+            s.scheme.clone(),
+            s.parameters.clone(),
+        )
+    }
+}
+
+/// Distinct items in first-appearance order (so that outputs follow the enumeration order).
+pub fn unique<T: PartialEq>(items: impl IntoIterator<Item = T>) -> Vec<T> {
+    let mut v = Vec::new();
+    for x in items {
+        if !v.contains(&x) {
+            v.push(x);
+        }
+    }
+    v
+}
+
+/// Items grouped by `key`, groups and members in first-appearance order.
+pub fn group_by<K: PartialEq, T>(
+    items: impl IntoIterator<Item = T>,
+    key: impl Fn(&T) -> K,
+) -> Vec<(K, Vec<T>)> {
+    let mut groups: Vec<(K, Vec<T>)> = Vec::new();
+    for x in items {
+        let k = key(&x);
+        match groups.iter_mut().find(|(g, _)| *g == k) {
+            Some((_, v)) => v.push(x),
+            None => groups.push((k, vec![x])),
+        }
+    }
+    groups
+}
+
 /// Enumerates the jobs of every `[[sweep]]` of the case file at `path` (`--quick`: the first
 /// levels only). Errors on an invalid case file or sweep table, before anything runs.
 pub fn jobs(path: &Path, quick: bool) -> Result<Vec<Job>> {
@@ -254,25 +296,10 @@ fn interpolate(series: &[(f64, f64)], t: f64) -> f64 {
 /// the same point on every level: the block sweeps use even cell counts so that the centre of Γ_C
 /// is a vertex). The reference run itself gets no error. Frees the probe series.
 pub fn reference_errors(records: &mut [RunRecord]) {
-    let key = |r: &RunRecord| {
-        let s = &r.summary;
-        (
-            s.case.clone(),
-            r.sweep.clone(),
-            s.space.clone(),
-            s.scheme.clone(),
-            s.parameters.clone(),
-        )
-    };
-    let groups: Vec<_> = records.iter().map(key).fold(Vec::new(), |mut v, k| {
-        if !v.contains(&k) {
-            v.push(k);
-        }
-        v
-    });
-    for g in groups {
-        let members: Vec<usize> = (0..records.len())
-            .filter(|&i| key(&records[i]) == g && !records[i].probe.is_empty())
+    for (_, indices) in group_by(0..records.len(), |&i| records[i].series_key()) {
+        let members: Vec<usize> = indices
+            .into_iter()
+            .filter(|&i| !records[i].probe.is_empty())
             .collect();
         let Some(&finest) = members.iter().max_by_key(|&&i| records[i].level) else {
             continue;

@@ -3,7 +3,7 @@
 //! residual of the fit and the value expected from the literature where known.
 
 use crate::error::Result;
-use crate::harness::{RunRecord, Status};
+use crate::harness::{group_by, RunRecord, Status};
 use crate::metrics::Metrics;
 use std::path::Path;
 
@@ -79,25 +79,8 @@ pub struct Order {
 
 /// Observed orders per case × sweep × space × scheme × quantity, in record order.
 pub fn orders(records: &[RunRecord]) -> Vec<Order> {
-    let key = |r: &RunRecord| {
-        (
-            r.summary.case.clone(),
-            r.sweep.clone(),
-            r.summary.space.clone(),
-            r.summary.scheme.clone(),
-            r.summary.parameters.clone(),
-        )
-    };
-    let mut groups: Vec<(_, Vec<&RunRecord>)> = Vec::new();
-    for r in records {
-        let k = key(r);
-        match groups.iter_mut().find(|(g, _)| *g == k) {
-            Some((_, v)) => v.push(r),
-            None => groups.push((k, vec![r])),
-        }
-    }
     let mut out = Vec::new();
-    for ((case, sweep, space, scheme, parameters), runs) in groups {
+    for ((case, sweep, space, scheme, parameters), runs) in group_by(records, |r| r.series_key()) {
         for (quantity, get) in QUANTITIES {
             let pts: Vec<(f64, f64)> = runs
                 .iter()

@@ -12,7 +12,7 @@
 use crate::cases;
 use crate::cases::sweep::HistorySpec;
 use crate::error::{Error, Result};
-use crate::harness::{self, RunRecord, Status};
+use crate::harness::{self, group_by, unique, RunRecord, Status};
 use crate::orders::{self, reference_slope, Order};
 use crate::output::plot::{loglog_plot, time_panels, time_plot, LogLog, Series, PALETTE};
 use crate::output::records::{write_records, write_timings};
@@ -115,16 +115,6 @@ fn reference_space(spaces: &[String]) -> &str {
         .unwrap_or(&spaces[0])
 }
 
-fn unique<T: PartialEq + Clone>(items: impl Iterator<Item = T>) -> Vec<T> {
-    let mut v: Vec<T> = Vec::new();
-    for x in items {
-        if !v.contains(&x) {
-            v.push(x);
-        }
-    }
-    v
-}
-
 fn scheme_label(s: &Summary) -> String {
     if s.parameters.is_empty() {
         s.scheme.clone()
@@ -136,16 +126,8 @@ fn scheme_label(s: &Summary) -> String {
 /// Convergence plots of every case × sweep.
 fn convergence_figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figure>> {
     let mut figures = Vec::new();
-    let groups = unique(
-        records
-            .iter()
-            .map(|r| (r.summary.case.clone(), r.sweep.clone())),
-    );
-    for (case, sweep) in groups {
-        let rs: Vec<&RunRecord> = records
-            .iter()
-            .filter(|r| r.summary.case == case && r.sweep == sweep)
-            .collect();
+    let groups = group_by(records, |r| (r.summary.case.clone(), r.sweep.clone()));
+    for ((case, sweep), rs) in groups {
         let spaces = unique(rs.iter().map(|r| r.summary.space.clone()));
         let schemes = unique(rs.iter().map(|r| scheme_label(&r.summary)));
         let x_label = if rs[0].summary.h.is_finite() {
@@ -383,18 +365,11 @@ fn history_panels(
             (space.clone(), (format!("dt = {dt}"), r))
         })
         .collect();
-    let mut by_space: Vec<(String, Vec<Curve>)> = Vec::new();
-    for (space, c) in curves {
-        match by_space.iter_mut().find(|(s, _)| *s == space) {
-            Some((_, v)) => v.push(c),
-            None => by_space.push((space, vec![c])),
-        }
-    }
     let mut notes = String::new();
-    let panels_runs: Vec<(String, Vec<(String, RunResult)>)> = by_space
+    let panels_runs: Vec<(String, Vec<(String, RunResult)>)> = group_by(curves, |c| c.0.clone())
         .into_iter()
         .map(|(space, curves)| {
-            let (runs, note) = split_failed(curves);
+            let (runs, note) = split_failed(curves.into_iter().map(|c| c.1).collect());
             notes.push_str(&note);
             (space, runs)
         })

@@ -3,7 +3,7 @@
 //! rendered from the same list of blocks.
 
 use crate::error::{Error, Result};
-use crate::harness::{RunRecord, Status};
+use crate::harness::{group_by, unique, RunRecord, Status};
 use crate::orders::{literature, Order};
 use crate::report::{order_table, Figure};
 use std::fmt::Write as _;
@@ -59,52 +59,33 @@ fn blocks(records: &[RunRecord], orders: &[Order], figures: &[Figure], quick: bo
     .collect();
     b.push(Block::Heading("Run status".into()));
     b.push(Block::Para(format!("{}.", counts.join(", "))));
-    let mut seen: Vec<(String, String, String, &str)> = Vec::new();
-    let mut rows = Vec::new();
-    for r in records.iter().filter(|r| r.status != Status::Ok) {
-        let s = &r.summary;
-        let key = (
-            s.case.clone(),
-            s.space.clone(),
-            s.scheme.clone() + &s.parameters,
-            r.status.as_str(),
-        );
-        if !seen.contains(&key) {
-            seen.push(key);
-            rows.push(vec![
+    // The first non-ok run of each series and status, with its reason.
+    let failures = group_by(records.iter().filter(|r| r.status != Status::Ok), |r| {
+        (r.series_key(), r.status)
+    });
+    let rows: Vec<Vec<String>> = failures
+        .iter()
+        .map(|(_, runs)| {
+            let (r, s) = (runs[0], &runs[0].summary);
+            vec![
                 s.case.clone(),
                 s.space.clone(),
                 format!("{} {}", s.scheme, s.parameters),
                 r.status.as_str().to_string(),
                 r.reason.clone(),
-            ]);
-        }
-    }
+            ]
+        })
+        .collect();
     if !rows.is_empty() {
         let header = ["case", "space", "scheme", "status", "first reason"];
         b.push(Block::Table(header.map(String::from).to_vec(), rows));
     }
-    let mut groups: Vec<(String, String)> = Vec::new();
-    for o in orders {
-        let k = (o.case.clone(), o.sweep.clone());
-        if !groups.contains(&k) {
-            groups.push(k);
-        }
-    }
+    let groups = unique(orders.iter().map(|o| (o.case.clone(), o.sweep.clone())));
     for (case, sweep) in groups {
         b.push(Block::Heading(format!(
             "Observed orders: {case}, sweep `{sweep}`"
         )));
-        let lit: Vec<String> = orders
-            .iter()
-            .filter(|o| o.case == case)
-            .map(|o| o.quantity)
-            .fold(Vec::new(), |mut v, q| {
-                if !v.contains(&q) {
-                    v.push(q);
-                }
-                v
-            })
+        let lit: Vec<String> = unique(orders.iter().filter(|o| o.case == case).map(|o| o.quantity))
             .into_iter()
             .filter(|q| !literature(&case, q).is_empty())
             .map(|q| format!("{q} ≈ {}", literature(&case, q)))
