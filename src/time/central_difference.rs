@@ -59,7 +59,7 @@ impl Scheme for CentralDifference {
         let k_ss = restrict(&problem.k, &massless)?;
         let mut system =
             ContactStep::with_stiffness(problem, &k_ss, (1.0, dt * dt), dt * dt, contact)?;
-        let dt_max = CFL_SAFETY * critical_time_step(problem, &mut system, &massless);
+        let dt_max = CFL_SAFETY * critical_time_step(problem, m, &mut system, &massless);
         if dt > dt_max {
             return Err(Error::invalid(
                 "dt",
@@ -98,22 +98,22 @@ fn massless_dofs(m: &SpMat) -> Vec<bool> {
 
 /// Contact dofs must be all massive or all massless (otherwise λ couples the two stages).
 fn check_contact_dofs(problem: &Problem, massless: &[bool]) -> Result<()> {
-    let kinds: Vec<bool> = linalg::triplets(&problem.contact.b_n)
-        .map(|(_, j, _)| massless[j])
-        .collect();
-    let any_massless = massless.iter().any(|&b| b);
-    let ok = if any_massless {
-        kinds.iter().all(|&b| b)
-    } else {
-        true
-    };
-    if ok {
-        Ok(())
-    } else {
-        Err(Error::Unsupported(
+    let contact_massless = linalg::triplets(&problem.contact.b_n).all(|(_, j, _)| massless[j]);
+    if massless.contains(&true) && !contact_massless {
+        return Err(Error::Unsupported(
             "central_difference: the mass has massless dofs but some contact dofs carry mass"
                 .into(),
-        ))
+        ));
+    }
+    Ok(())
+}
+
+/// `x_i = 0` wherever `mask_i`.
+fn zero_where(x: &mut [f64], mask: &[bool]) {
+    for (xi, &m) in x.iter_mut().zip(mask) {
+        if m {
+            *xi = 0.0;
+        }
     }
 }
 
@@ -130,21 +130,18 @@ fn restrict(k: &SpMat, massless: &[bool]) -> Result<SpMat> {
 
 /// `2/ω_max` with `ω²_max` the largest eigenvalue of `(K_RR, M_RR)`, by power iteration
 /// `x ← M_RR⁻¹ K_RR x` (the R block of A⁻¹ is `M_RR⁻¹`) and its Rayleigh quotient.
-fn critical_time_step(problem: &Problem, system: &mut ContactStep, massless: &[bool]) -> f64 {
+fn critical_time_step(
+    problem: &Problem,
+    m: &SpMat,
+    system: &mut ContactStep,
+    massless: &[bool],
+) -> f64 {
     let n = problem.n();
-    let Inertia::Sparse { m } = &problem.inertia else {
-        return f64::INFINITY;
-    };
     // A deterministic start with every mode present.
     let mut x: Vec<f64> = (0..n)
-        .map(|i| {
-            if massless[i] {
-                0.0
-            } else {
-                1.0 + ((i * 7919) % 13) as f64 / 13.0
-            }
-        })
+        .map(|i| 1.0 + ((i * 7919) % 13) as f64 / 13.0)
         .collect();
+    zero_where(&mut x, massless);
     let (mut kx, mut w) = (vec![0.0; n], vec![0.0; n]);
     let mut omega2 = 0.0;
     for _ in 0..CFL_ITERATIONS {
@@ -155,17 +152,9 @@ fn critical_time_step(problem: &Problem, system: &mut ContactStep, massless: &[b
             return f64::INFINITY;
         }
         omega2 = f64::max(omega2, linalg::dot(&x, &kx) / mx);
-        for (k, &s) in kx.iter_mut().zip(massless) {
-            if s {
-                *k = 0.0;
-            }
-        }
+        zero_where(&mut kx, massless);
         system.solve_free(&kx, &mut x, &mut w);
-        for (xi, &s) in x.iter_mut().zip(massless) {
-            if s {
-                *xi = 0.0;
-            }
-        }
+        zero_where(&mut x, massless);
         let norm = linalg::dot(&x, &x).sqrt();
         if norm == 0.0 || !norm.is_finite() {
             break;
@@ -207,15 +196,7 @@ impl CentralDifferenceIntegrator<'_> {
             .problem
             .inertia
             .apply_add(&mut self.s.rhs, &self.scratch, 1.0);
-        self.zero_massless_rhs();
-    }
-
-    fn zero_massless_rhs(&mut self) {
-        for (r, &s) in self.s.rhs.iter_mut().zip(&self.massless) {
-            if s {
-                *r = 0.0;
-            }
-        }
+        zero_where(&mut self.s.rhs, &self.massless);
     }
 
     /// `r_S = Δt² (F_S − K_SR U_{n+1,R})` from the massive part of the free solve.
@@ -224,11 +205,7 @@ impl CentralDifferenceIntegrator<'_> {
         self.s
             .system
             .solve_free(&self.s.rhs, &mut self.u_new, &mut self.w_new);
-        for (u, &s) in self.u_new.iter_mut().zip(&self.massless) {
-            if s {
-                *u = 0.0;
-            }
-        }
+        zero_where(&mut self.u_new, &self.massless);
         self.scratch.fill(0.0);
         linalg::mul_add(&mut self.scratch, &self.s.problem.k, &self.u_new, 1.0);
         for i in 0..self.s.rhs.len() {
