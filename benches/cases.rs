@@ -19,7 +19,7 @@ fn cases_at_two_sizes(c: &mut Criterion) {
         for level in [0, 2.min(levels.len() - 1)] {
             let o = sweep.overrides(&sweep.spaces[0], &sweep.schemes[0], levels[level]);
             let case = cases::load(path, &o).expect("valid case");
-            let probe = dyncontact::run::run(case.as_ref()).expect("run");
+            let probe = dyncontact::study::run::run(case.as_ref()).expect("run");
             let (dofs, steps) = (probe.summary.dofs, probe.summary.steps);
             println!(
                 "case/{} level {level}: {dofs} dofs × {steps} steps",
@@ -29,7 +29,9 @@ fn cases_at_two_sizes(c: &mut Criterion) {
             g.bench_with_input(
                 BenchmarkId::new(format!("{dofs}dofs_{steps}steps"), level),
                 &level,
-                |b, _| b.iter(|| black_box(dyncontact::run::run(case.as_ref()).expect("run"))),
+                |b, _| {
+                    b.iter(|| black_box(dyncontact::study::run::run(case.as_ref()).expect("run")))
+                },
             );
         }
         g.finish();

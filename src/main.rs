@@ -2,9 +2,11 @@
 
 use clap::{Parser, Subcommand};
 use dyncontact::cases::{self, Overrides};
-use dyncontact::{harness, output, run, Result};
+use dyncontact::study::{jobs, orders, records, reference, run};
+use dyncontact::Result;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
 
 /// Verification and benchmark suite for elastodynamics with unilateral contact.
 #[derive(Parser)]
@@ -147,26 +149,26 @@ fn parse_shard(s: &str) -> std::result::Result<(usize, usize), String> {
 }
 
 fn sweep(cases: &[PathBuf], out: &Path, quick: bool, shard: Option<(usize, usize)>) -> Result<()> {
-    let mut jobs = Vec::new();
+    let mut all = Vec::new();
     for c in cases {
-        jobs.extend(harness::jobs(c, quick)?);
+        all.extend(jobs::jobs(&Arc::new(cases::CaseFile::read(c)?), quick)?);
     }
     if let Some(s) = shard {
-        jobs = harness::shard(jobs, s)?;
+        all = jobs::shard(all, s)?;
     }
     std::fs::create_dir_all(out).map_err(|e| dyncontact::Error::io(out, e))?;
-    eprintln!("running {} runs", jobs.len());
-    let mut records = harness::run_jobs(&jobs, true);
+    eprintln!("running {} runs", all.len());
+    let mut records = jobs::run_jobs(&all, true);
     if shard.is_none() {
-        harness::reference_errors(&mut records);
+        reference::reference_errors(&mut records);
     }
     let name = shard.map_or("records.csv".to_string(), |(i, n)| {
         format!("records-{i}-of-{n}.csv")
     });
-    dyncontact::output::records::write_records(&out.join(&name), &records, true)?;
+    records::write_records(&out.join(&name), &records, true)?;
     let failed = records
         .iter()
-        .filter(|r| r.status != harness::Status::Ok)
+        .filter(|r| r.status != jobs::Status::Ok)
         .count();
     println!(
         "wrote {}/{name} ({} runs, {failed} not ok)",
@@ -174,8 +176,8 @@ fn sweep(cases: &[PathBuf], out: &Path, quick: bool, shard: Option<(usize, usize
         records.len()
     );
     if shard.is_none() {
-        let orders = dyncontact::orders::orders(&records);
-        dyncontact::orders::write_orders(&out.join("orders.csv"), &orders)?;
+        let orders = orders::orders(&records);
+        orders::write_orders(&out.join("orders.csv"), &orders)?;
         println!("wrote {}/orders.csv", out.display());
     }
     Ok(())
@@ -246,7 +248,7 @@ fn main_result(cli: Cli) -> Result<()> {
             };
             let case = cases::load(&case, &overrides)?;
             let result = run::run(case.as_ref())?;
-            output::write_run(&out, &result)?;
+            run::write_run(&out, &result)?;
             let s = &result.summary;
             let m = &s.metrics;
             println!(

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{observed_order, run_bar};
-use dyncontact::metrics::Metrics;
+use dyncontact::study::metrics::Metrics;
 
 const LEVELS: [usize; 5] = [20, 40, 80, 160, 320];
 

@@ -8,9 +8,9 @@ use dyncontact::fem::elasticity::stress;
 use dyncontact::fem::reference::Shape;
 use dyncontact::linalg::{self, to_dense};
 use dyncontact::problem::{Inertia, Problem};
-use dyncontact::run::run;
 use dyncontact::space::singular_dynamic::{inf_sup_holds, mixed_matrices};
 use dyncontact::space::{by_name, SPACES};
+use dyncontact::study::run::run;
 use nalgebra::Matrix3;
 use std::path::Path;
 
@@ -203,7 +203,7 @@ fn singular_dynamic_inf_sup_condition_at_the_vertices_of_gamma_c() {
     }
 }
 
-fn seed_run(space: &str, beta: f64, dt: f64) -> dyncontact::run::RunResult {
+fn seed_run(space: &str, beta: f64, dt: f64) -> dyncontact::study::run::RunResult {
     let o = Overrides {
         space: Some(space.into()),
         beta: Some(beta),
@@ -215,7 +215,7 @@ fn seed_run(space: &str, beta: f64, dt: f64) -> dyncontact::run::RunResult {
     run(&b as &dyn Case).unwrap()
 }
 
-fn peak_stress(r: &dyncontact::run::RunResult) -> f64 {
+fn peak_stress(r: &dyncontact::study::run::RunResult) -> f64 {
     r.rows
         .iter()
         .map(|x| x.sigma_contact.abs())

@@ -4,8 +4,8 @@
 //! reason, unstable runs, whose digits are amplified round-off, with that verdict only). Review an intended change with `cargo insta review`, or accept all with
 //! `INSTA_UPDATE=always cargo test --release --test golden`.
 
-use dyncontact::harness::{self, RunRecord};
 use dyncontact::output::sig6;
+use dyncontact::study::jobs::{self, RunRecord};
 
 fn opt(x: Option<f64>) -> String {
     x.map_or_else(|| "-".into(), value)
@@ -42,7 +42,7 @@ fn snapshot_text(r: &RunRecord) -> String {
             s.steps
         ),
     ];
-    let finished = r.status != harness::Status::Unsupported && r.status != harness::Status::Failed;
+    let finished = r.status != jobs::Status::Unsupported && r.status != jobs::Status::Failed;
     if finished && m.energy_drift > UNSTABLE {
         // An energy that grows by O(1) is amplified round-off: its digits change with any
         // summation order, so only the verdict is pinned.
@@ -69,12 +69,12 @@ fn snapshot_text(r: &RunRecord) -> String {
 fn summary_metrics_of_every_combination_are_unchanged() {
     let mut count = 0;
     for case in dyncontact::report::case_files(std::path::Path::new("cases")).unwrap() {
-        let jobs: Vec<_> = harness::jobs(&case, true)
+        let all: Vec<_> = jobs::jobs(&case, true)
             .unwrap()
             .into_iter()
             .filter(|j| j.level == 0)
             .collect();
-        for record in harness::run_jobs(&jobs, false) {
+        for record in jobs::run_jobs(&all, false) {
             let s = &record.summary;
             let params = s.parameters.replace(['=', ';'], "_");
             let name = format!(

@@ -6,8 +6,8 @@ mod common;
 use common::{bar, observed_order, UNIT_BAR};
 use dyncontact::cases::{self, Case, Overrides, RunSpec};
 use dyncontact::exact::spring_mass::SpringMass;
-use dyncontact::run::{run, RunResult};
 use dyncontact::space::SPACES;
+use dyncontact::study::run::{run, RunResult};
 use dyncontact::time::SCHEMES;
 use std::path::Path;
 

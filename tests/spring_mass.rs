@@ -1,7 +1,7 @@
 //! Spring–mass impact: effective restitution of each space × scheme against the exact e = 1 bounce.
 
 use dyncontact::cases::{self, Overrides};
-use dyncontact::run::run;
+use dyncontact::study::run::run;
 use std::path::Path;
 
 fn spring(
@@ -9,7 +9,7 @@ fn spring(
     beta: f64,
     gamma: f64,
     dt: f64,
-) -> dyncontact::Result<dyncontact::run::RunResult> {
+) -> dyncontact::Result<dyncontact::study::run::RunResult> {
     let o = Overrides {
         space: Some(space.into()),
         beta: Some(beta),

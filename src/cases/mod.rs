@@ -17,7 +17,7 @@ use crate::space::Space;
 use crate::time::SchemeParams;
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Error evaluator of a full displacement field against the exact one.
 pub trait FieldError {
@@ -222,10 +222,76 @@ struct Header {
     case: String,
 }
 
+/// The parsed spec of a case file, one variant per kind.
+#[derive(Debug, Clone)]
+enum Spec {
+    Bar1d(bar1d::Bar1dSpec),
+    Block(block::BlockSpec),
+    SpringMass(spring_mass::SpringMassSpec),
+}
+
+/// A case file read and parsed once per command: its path, its text (the content key of the
+/// study records) and its spec. [`CaseFile::build`] validates it with overrides, once per run.
+#[derive(Debug, Clone)]
+pub struct CaseFile {
+    /// Where it was read (for messages).
+    pub path: PathBuf,
+    /// Its text.
+    pub text: String,
+    spec: Spec,
+}
+
+impl CaseFile {
+    /// Reads and parses the case file at `path`.
+    pub fn read(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        Self::parse(text, path)
+    }
+
+    /// Parses case-file text (`path` is only used in messages).
+    pub fn parse(text: String, path: &Path) -> Result<Self> {
+        let table: toml::Table = spec_from_str(&text, path)?;
+        let header: Header = table
+            .try_into()
+            .map_err(|e: toml::de::Error| Error::CaseSyntax {
+                path: path.to_path_buf(),
+                message: format!("missing or invalid `case` field: {e}"),
+            })?;
+        let spec = match header.case.as_str() {
+            "bar1d" => Spec::Bar1d(spec_from_str(&text, path)?),
+            "block2d" | "block3d" => Spec::Block(spec_from_str(&text, path)?),
+            "spring_mass" => Spec::SpringMass(spec_from_str(&text, path)?),
+            other => {
+                return Err(Error::UnknownName {
+                    kind: "case",
+                    name: other.to_string(),
+                    known: CASES.join(", "),
+                })
+            }
+        };
+        Ok(Self {
+            path: path.to_path_buf(),
+            text,
+            spec,
+        })
+    }
+
+    /// The validated case with `overrides` applied.
+    pub fn build(&self, overrides: &Overrides) -> Result<Box<dyn Case>> {
+        Ok(match &self.spec {
+            Spec::Bar1d(s) => Box::new(bar1d::Bar1d::from_spec(s.clone(), overrides)?),
+            Spec::Block(s) => Box::new(block::Block::from_spec(s.clone(), overrides)?),
+            Spec::SpringMass(s) => Box::new(spring_mass::SpringMassCase::from_spec(
+                s.clone(),
+                overrides,
+            )?),
+        })
+    }
+}
+
 /// Reads, parses and validates a case file, applying `overrides`.
 pub fn load(path: &Path, overrides: &Overrides) -> Result<Box<dyn Case>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    parse(&text, path, overrides)
+    CaseFile::read(path)?.build(overrides)
 }
 
 /// Deserialises case-file text into the spec of one case kind (`path` is only used in messages).
@@ -236,32 +302,7 @@ pub fn spec_from_str<T: DeserializeOwned>(text: &str, path: &Path) -> Result<T> 
     })
 }
 
-/// Parses case-file text (`path` is only used in messages).
+/// Parses case-file text and validates it with `overrides` (`path` is only used in messages).
 pub fn parse(text: &str, path: &Path, overrides: &Overrides) -> Result<Box<dyn Case>> {
-    let table: toml::Table = spec_from_str(text, path)?;
-    let header: Header = table
-        .try_into()
-        .map_err(|e: toml::de::Error| Error::CaseSyntax {
-            path: path.to_path_buf(),
-            message: format!("missing or invalid `case` field: {e}"),
-        })?;
-    match header.case.as_str() {
-        "bar1d" => Ok(Box::new(bar1d::Bar1d::from_spec(
-            spec_from_str(text, path)?,
-            overrides,
-        )?)),
-        "block2d" | "block3d" => Ok(Box::new(block::Block::from_spec(
-            spec_from_str(text, path)?,
-            overrides,
-        )?)),
-        "spring_mass" => Ok(Box::new(spring_mass::SpringMassCase::from_spec(
-            spec_from_str(text, path)?,
-            overrides,
-        )?)),
-        other => Err(Error::UnknownName {
-            kind: "case",
-            name: other.to_string(),
-            known: CASES.join(", "),
-        }),
-    }
+    CaseFile::parse(text.to_string(), path)?.build(overrides)
 }

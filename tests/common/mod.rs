@@ -4,7 +4,7 @@
 use dyncontact::cases::bar1d::Bar1d;
 use dyncontact::cases::{Case, RunSpec};
 use dyncontact::exact::bar_impact::BarImpact;
-use dyncontact::run::{run, RunResult};
+use dyncontact::study::run::{run, RunResult};
 
 /// The unit bar of `shared/reference/bar_impact.md`.
 pub const UNIT_BAR: BarImpact = BarImpact {
@@ -44,5 +44,5 @@ pub fn run_bar(
 
 /// Least-squares slope of log(err) against log(h).
 pub fn observed_order(h: &[f64], err: &[f64]) -> f64 {
-    dyncontact::orders::fit_order(h, err).0
+    dyncontact::study::orders::fit_order(h, err).0
 }

@@ -1,24 +1,17 @@
-//! `dyncontact report`: runs every `[[sweep]]` of the case files (the [`crate::harness`]) and
-//! writes, into one directory:
-//! - `summary.csv` (one row per run, deterministic), `timings.csv` (wall times), `orders.csv`;
-//! - convergence PNGs per case × sweep × quantity (one series per space for the sweep's first
-//!   scheme, one series per scheme for the reference space), each with a slope triangle;
-//! - energy and contact stress against time for every case;
-//! - `index.md` and `index.html` listing every figure and table with one sentence each.
-//!
-//! `dyncontact merge` rebuilds the same files (without the time histories, which need the time
-//! series) from record files written by `dyncontact sweep --shard i/n`.
+//! The report's figures: convergence plots per case × sweep × quantity, and energy and contact
+//! stress against time per case file.
 
-use crate::cases;
 use crate::cases::sweep::HistorySpec;
+use crate::cases::CaseFile;
 use crate::error::{Error, Result};
-use crate::harness::{self, group_by, unique, RunRecord, Status};
-use crate::orders::{self, reference_slope, Order};
 use crate::output::plot::{loglog_plot, time_panels, time_plot, LogLog, Series, PALETTE};
-use crate::output::records::{write_records, write_timings};
-use crate::run::{run, Row, RunResult, Summary};
+use crate::study::jobs::{RunRecord, Status};
+use crate::study::orders::{self, reference_slope};
+use crate::study::run::{run, RunResult, Summary};
+use crate::study::trajectory::Row;
+use crate::util::{group_by, unique};
 use rayon::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// A figure of the report: file name (in the output directory) and what it shows.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,73 +20,6 @@ pub struct Figure {
     pub file: String,
     /// One sentence on what it shows.
     pub caption: String,
-}
-
-/// Report settings.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Options {
-    /// Only the first `quick_levels` levels of every sweep.
-    pub quick: bool,
-    /// Progress bar on the terminal.
-    pub progress: bool,
-}
-
-/// Case files with `[[sweep]]` tables in `dir`, sorted by name.
-pub fn case_files(dir: &Path) -> Result<Vec<PathBuf>> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| Error::io(dir, e))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    let mut out = Vec::new();
-    for f in files {
-        if !cases::load(&f, &cases::Overrides::default())?
-            .sweeps()
-            .is_empty()
-        {
-            out.push(f);
-        }
-    }
-    Ok(out)
-}
-
-/// Runs every sweep of the case files in `cases_dir` and writes the report into `out`.
-pub fn report(cases_dir: &Path, out: &Path, opts: Options) -> Result<Vec<RunRecord>> {
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
-    let files = case_files(cases_dir)?;
-    let mut jobs = Vec::new();
-    for f in &files {
-        jobs.extend(harness::jobs(f, opts.quick)?);
-    }
-    let mut records = harness::run_jobs(&jobs, opts.progress);
-    harness::reference_errors(&mut records);
-    let mut figures = Vec::new();
-    for f in &files {
-        figures.extend(time_histories(f, out, opts.quick)?);
-    }
-    write(out, &records, figures, opts.quick)?;
-    Ok(records)
-}
-
-/// Joins record files (from `sweep --shard`) into a report in `out` (no time histories).
-pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
-    let mut records = Vec::new();
-    for f in files {
-        records.extend(crate::output::records::read_records(f)?);
-    }
-    write(out, &records, Vec::new(), false)?;
-    Ok(records)
-}
-
-fn write(out: &Path, records: &[RunRecord], mut figures: Vec<Figure>, quick: bool) -> Result<()> {
-    write_records(&out.join("summary.csv"), records, false)?;
-    write_timings(&out.join("timings.csv"), records)?;
-    let orders = orders::orders(records);
-    orders::write_orders(&out.join("orders.csv"), &orders)?;
-    figures.splice(0..0, convergence_figures(out, records)?);
-    crate::output::index::write_index(out, records, &orders, &figures, quick)
 }
 
 /// Plotted error quantities and their axis labels.
@@ -124,7 +50,7 @@ fn scheme_label(s: &Summary) -> String {
 }
 
 /// Convergence plots of every case × sweep.
-fn convergence_figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figure>> {
+pub fn convergence_figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figure>> {
     let mut figures = Vec::new();
     let groups = group_by(records, |r| (r.summary.case.clone(), r.sweep.clone()));
     for ((case, sweep), rs) in groups {
@@ -227,14 +153,13 @@ fn convergence_figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figure>>
 /// per space, one curve per dt: the seed paper's figures side by side), or by default the first
 /// sweep at its third level (first with `quick`) with every space for the first scheme, or every
 /// scheme when the sweep has one space. Failed runs are left out and named in the caption.
-fn time_histories(path: &Path, out: &Path, quick: bool) -> Result<Vec<Figure>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let case = cases::parse(&text, path, &cases::Overrides::default())?;
+pub fn time_histories(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> {
+    let case = file.build(&Default::default())?;
     let kind = case.kind();
     if !case.histories().is_empty() {
         let mut figures = Vec::new();
         for h in case.histories() {
-            figures.extend(history_panels(&text, path, out, kind, h)?);
+            figures.extend(history_panels(file, out, kind, h)?);
         }
         return Ok(figures);
     }
@@ -257,10 +182,7 @@ fn time_histories(path: &Path, out: &Path, quick: bool) -> Result<Vec<Figure>> {
             } else {
                 sweep.schemes[*k].label()
             };
-            (
-                label,
-                cases::parse(&text, path, &o).and_then(|c| run(c.as_ref())),
-            )
+            (label, file.build(&o).and_then(|c| run(c.as_ref())))
         })
         .collect();
     let at = levels[level]
@@ -346,13 +268,7 @@ fn split_failed(curves: Vec<Curve>) -> (Vec<(String, RunResult)>, String) {
 }
 
 /// One `[[history]]`: a panel per space, a curve per time step, for energy and contact stress.
-fn history_panels(
-    text: &str,
-    path: &Path,
-    out: &Path,
-    kind: &str,
-    h: &HistorySpec,
-) -> Result<Vec<Figure>> {
+fn history_panels(file: &CaseFile, out: &Path, kind: &str, h: &HistorySpec) -> Result<Vec<Figure>> {
     let combos: Vec<(&String, f64)> = h
         .spaces
         .iter()
@@ -361,7 +277,9 @@ fn history_panels(
     let curves: Vec<(String, Curve)> = combos
         .par_iter()
         .map(|&(space, dt)| {
-            let r = cases::parse(text, path, &h.overrides(space, dt)).and_then(|c| run(c.as_ref()));
+            let r = file
+                .build(&h.overrides(space, dt))
+                .and_then(|c| run(c.as_ref()));
             (space.clone(), (format!("dt = {dt}"), r))
         })
         .collect();
@@ -407,47 +325,4 @@ fn history_panels(
         });
     }
     Ok(figures)
-}
-
-/// Orders of one case × sweep as a table: rows space × scheme, columns the fitted quantities.
-pub fn order_table(orders: &[Order], case: &str, sweep: &str) -> (Vec<String>, Vec<Vec<String>>) {
-    let rows_of: Vec<&Order> = orders
-        .iter()
-        .filter(|o| o.case == case && o.sweep == sweep)
-        .collect();
-    let quantities = unique(rows_of.iter().map(|o| o.quantity));
-    let keys = unique(
-        rows_of
-            .iter()
-            .map(|o| (o.space.clone(), o.scheme.clone(), o.parameters.clone())),
-    );
-    let mut header = vec!["space".to_string(), "scheme".to_string()];
-    header.extend(quantities.iter().map(|q| q.to_string()));
-    let rows = keys
-        .iter()
-        .map(|(space, scheme, params)| {
-            let mut row = vec![
-                space.clone(),
-                if params.is_empty() {
-                    scheme.clone()
-                } else {
-                    format!("{scheme} ({params})")
-                },
-            ];
-            row.extend(quantities.iter().map(|q| {
-                rows_of
-                    .iter()
-                    .find(|o| {
-                        o.space == *space
-                            && o.scheme == *scheme
-                            && o.parameters == *params
-                            && o.quantity == *q
-                    })
-                    .and_then(|o| o.fit)
-                    .map_or("–".to_string(), |f| format!("{:.2}", f.0))
-            }));
-            row
-        })
-        .collect();
-    (header, rows)
 }

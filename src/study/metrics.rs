@@ -1,6 +1,6 @@
 //! Run metrics (DESIGN.md §6), computed from the probe time series and the field errors.
 
-use crate::run::Row;
+use super::trajectory::Row;
 
 /// Metrics of one run. `None` where a metric does not apply (no exact solution, 0D case, …).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -2,10 +2,11 @@
 //! shows, the observed orders per case × sweep, and the runs that did not finish. Both files are
 //! rendered from the same list of blocks.
 
+use super::figures::Figure;
 use crate::error::{Error, Result};
-use crate::harness::{group_by, unique, RunRecord, Status};
-use crate::orders::{literature, Order};
-use crate::report::{order_table, Figure};
+use crate::study::jobs::{RunRecord, Status};
+use crate::study::orders::{literature, Order};
+use crate::util::{group_by, unique};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -203,4 +204,47 @@ pub fn write_index(
         std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
     }
     Ok(())
+}
+
+/// Orders of one case × sweep as a table: rows space × scheme, columns the fitted quantities.
+pub fn order_table(orders: &[Order], case: &str, sweep: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let rows_of: Vec<&Order> = orders
+        .iter()
+        .filter(|o| o.case == case && o.sweep == sweep)
+        .collect();
+    let quantities = unique(rows_of.iter().map(|o| o.quantity));
+    let keys = unique(
+        rows_of
+            .iter()
+            .map(|o| (o.space.clone(), o.scheme.clone(), o.parameters.clone())),
+    );
+    let mut header = vec!["space".to_string(), "scheme".to_string()];
+    header.extend(quantities.iter().map(|q| q.to_string()));
+    let rows = keys
+        .iter()
+        .map(|(space, scheme, params)| {
+            let mut row = vec![
+                space.clone(),
+                if params.is_empty() {
+                    scheme.clone()
+                } else {
+                    format!("{scheme} ({params})")
+                },
+            ];
+            row.extend(quantities.iter().map(|q| {
+                rows_of
+                    .iter()
+                    .find(|o| {
+                        o.space == *space
+                            && o.scheme == *scheme
+                            && o.parameters == *params
+                            && o.quantity == *q
+                    })
+                    .and_then(|o| o.fit)
+                    .map_or("–".to_string(), |f| format!("{:.2}", f.0))
+            }));
+            row
+        })
+        .collect();
+    (header, rows)
 }

@@ -1,11 +1,11 @@
 //! `records.csv` / `summary.csv` of a sweep: one row per run, written and read back (for
 //! `dyncontact merge`), and `timings.csv` with the only non-deterministic columns.
 
-use super::csv::{summary_record, write_rows, SUMMARY_COLUMNS};
+use super::jobs::{RunRecord, Status};
+use super::metrics::Metrics;
+use super::run::{summary_record, Summary, SUMMARY_COLUMNS};
 use crate::error::{Error, Result};
-use crate::harness::{RunRecord, Status};
-use crate::metrics::Metrics;
-use crate::run::Summary;
+use crate::output::csv::write_rows;
 use std::path::Path;
 
 /// Columns of `records.csv` before the summary columns.

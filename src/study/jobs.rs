@@ -1,17 +1,16 @@
-//! The harness: every combination declared in the `[[sweep]]` tables of case files, run in
-//! parallel (rayon) with a progress bar (indicatif), one [`RunRecord`] per run, and observed orders.
+//! Jobs: every combination declared in the `[[sweep]]` tables of case files, run in parallel
+//! (rayon) with a progress bar (indicatif), one [`RunRecord`] per run.
 //!
 //! A run that fails (solver failure, unstable time step, unsupported combination) or diverges
 //! (NaN, or energy above [`BLOWUP_FACTOR`] × E(0)) is recorded with its status and reason; it never
 //! aborts the sweep. Records come back in enumeration order, so outputs are deterministic.
 
-use crate::cases::{self, sweep::Refinement, sweep::SchemeChoice, Case};
+use super::metrics::Metrics;
+use super::run::{self, RunResult, Summary};
+use crate::cases::{self, sweep::Refinement, sweep::SchemeChoice, Case, CaseFile};
 use crate::error::{Error, Result};
-use crate::metrics::Metrics;
-use crate::run::{self, RunResult, Summary};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
-use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// A run whose energy exceeds this multiple of E(0) is recorded as diverged.
@@ -20,9 +19,8 @@ pub const BLOWUP_FACTOR: f64 = 100.0;
 /// One combination to run.
 #[derive(Debug, Clone)]
 pub struct Job {
-    /// Case file (for messages) and its text.
-    pub path: Arc<PathBuf>,
-    text: Arc<String>,
+    /// The case file, parsed once per command.
+    pub file: Arc<CaseFile>,
     /// Sweep name.
     pub sweep: String,
     /// Space.
@@ -106,46 +104,17 @@ impl RunRecord {
     }
 }
 
-/// Distinct items in first-appearance order (so that outputs follow the enumeration order).
-pub fn unique<T: PartialEq>(items: impl IntoIterator<Item = T>) -> Vec<T> {
-    let mut v = Vec::new();
-    for x in items {
-        if !v.contains(&x) {
-            v.push(x);
-        }
-    }
-    v
-}
-
-/// Items grouped by `key`, groups and members in first-appearance order.
-pub fn group_by<K: PartialEq, T>(
-    items: impl IntoIterator<Item = T>,
-    key: impl Fn(&T) -> K,
-) -> Vec<(K, Vec<T>)> {
-    let mut groups: Vec<(K, Vec<T>)> = Vec::new();
-    for x in items {
-        let k = key(&x);
-        match groups.iter_mut().find(|(g, _)| *g == k) {
-            Some((_, v)) => v.push(x),
-            None => groups.push((k, vec![x])),
-        }
-    }
-    groups
-}
-
-/// Enumerates the jobs of every `[[sweep]]` of the case file at `path` (`--quick`: the first
-/// levels only). Errors on an invalid case file or sweep table, before anything runs.
-pub fn jobs(path: &Path, quick: bool) -> Result<Vec<Job>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let case = cases::parse(&text, path, &cases::Overrides::default())?;
+/// Enumerates the jobs of every `[[sweep]]` of a case file (`--quick`: the first levels only).
+/// Errors on an invalid case file or sweep table, before anything runs.
+pub fn jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
+    let case = file.build(&cases::Overrides::default())?;
     if case.sweeps().is_empty() {
         return Err(Error::invalid(
             "sweep",
-            path.display().to_string(),
+            file.path.display().to_string(),
             "the case file has no [[sweep]] table",
         ));
     }
-    let (path, text) = (Arc::new(path.to_path_buf()), Arc::new(text));
     let mut out = Vec::new();
     for s in case.sweeps() {
         let levels = s.refinements(quick)?;
@@ -158,8 +127,7 @@ pub fn jobs(path: &Path, quick: bool) -> Result<Vec<Job>> {
                     overrides.apply(&mut spec);
                     spec.validate()?;
                     out.push(Job {
-                        path: path.clone(),
-                        text: text.clone(),
+                        file: file.clone(),
                         sweep: s.name.clone(),
                         space: space.clone(),
                         choice: choice.clone(),
@@ -225,7 +193,7 @@ pub fn run_job(job: &Job) -> RunRecord {
         (status, e.to_string(), failed_summary(job, case))
     };
     let mut probe = Vec::new();
-    let (status, reason, summary) = match cases::parse(&job.text, &job.path, &job.overrides) {
+    let (status, reason, summary) = match job.file.build(&job.overrides) {
         Err(e) => failed(e, None),
         Ok(case) => match run::run(case.as_ref()) {
             Err(e) => failed(e, Some(case.as_ref())),
@@ -274,106 +242,5 @@ fn failed_summary(job: &Job, case: Option<&dyn Case>) -> Summary {
         contact_iterations: 0,
         wall_time: 0.0,
         metrics: Metrics::unavailable(),
-    }
-}
-
-/// Linear interpolation of `(t, value)` samples (sorted by t) at `t`.
-fn interpolate(series: &[(f64, f64)], t: f64) -> f64 {
-    let k = series.partition_point(|p| p.0 < t);
-    if k == 0 {
-        return series[0].1;
-    }
-    if k == series.len() {
-        return series[k - 1].1;
-    }
-    let ((t0, v0), (t1, v1)) = (series[k - 1], series[k]);
-    v0 + (v1 - v0) * (t - t0) / (t1 - t0)
-}
-
-/// For cases without an exact solution: `err_u_contact = max_n |u_h(t_n) − u_ref(t_n)|` and
-/// `err_sigma_l2 = (Σ_n Δt (σ_h − σ_ref)²)^{1/2}` at the probe, against the finest finished level
-/// of the same case × sweep × space × scheme (interpolated linearly in time; the probe must sit at
-/// the same point on every level: the block sweeps use even cell counts so that the centre of Γ_C
-/// is a vertex). The reference run itself gets no error. Frees the probe series.
-pub fn reference_errors(records: &mut [RunRecord]) {
-    for (_, indices) in group_by(0..records.len(), |&i| records[i].series_key()) {
-        let members: Vec<usize> = indices
-            .into_iter()
-            .filter(|&i| !records[i].probe.is_empty())
-            .collect();
-        let Some(&finest) = members.iter().max_by_key(|&&i| records[i].level) else {
-            continue;
-        };
-        let u_ref: Vec<(f64, f64)> = records[finest].probe.iter().map(|p| (p.0, p.1)).collect();
-        let s_ref: Vec<(f64, f64)> = records[finest].probe.iter().map(|p| (p.0, p.2)).collect();
-        for &i in members.iter().filter(|&&i| i != finest) {
-            let r = &mut records[i];
-            let dt = r.summary.dt;
-            let du = r
-                .probe
-                .iter()
-                .map(|p| (p.1 - interpolate(&u_ref, p.0)).abs());
-            let ds = r
-                .probe
-                .iter()
-                .skip(1)
-                .map(|p| dt * (p.2 - interpolate(&s_ref, p.0)).powi(2));
-            r.summary.metrics.err_u_contact = Some(du.fold(0.0, f64::max));
-            r.summary.metrics.err_sigma_l2 = Some(ds.sum::<f64>().sqrt());
-        }
-    }
-    for r in records.iter_mut() {
-        r.probe = Vec::new();
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn record(level: usize, dt: f64, offset: f64) -> RunRecord {
-        let summary = Summary {
-            case: "block2d".into(),
-            space: "standard".into(),
-            scheme: "newmark".into(),
-            parameters: String::new(),
-            h: 0.1 / (level + 1) as f64,
-            dt,
-            dofs: 1,
-            steps: (1.0 / dt) as usize,
-            contact_iterations: 0,
-            wall_time: 0.0,
-            metrics: Metrics::default(),
-        };
-        let n = (1.0 / dt).round() as usize;
-        let probe = (0..=n)
-            .map(|k| {
-                let t = k as f64 * dt;
-                (t, t.sin() + offset, t.cos())
-            })
-            .collect();
-        RunRecord {
-            sweep: "s".into(),
-            level,
-            status: Status::Ok,
-            reason: String::new(),
-            summary,
-            probe,
-        }
-    }
-
-    #[test]
-    fn reference_errors_compare_against_the_finest_level() {
-        let mut r = vec![record(0, 0.1, 0.25), record(1, 0.01, 0.0)];
-        reference_errors(&mut r);
-        let (eu, es) = (
-            r[0].summary.metrics.err_u_contact,
-            r[0].summary.metrics.err_sigma_l2,
-        );
-        // u differs by 0.25 plus the interpolation error of sin at dt = 0.01 (< 1.3e-5).
-        assert!((eu.unwrap() - 0.25).abs() < 2e-5, "{eu:?}");
-        assert!(es.unwrap() < 1e-4, "{es:?}");
-        assert!(r[1].summary.metrics.err_u_contact.is_none());
-        assert!(r.iter().all(|x| x.probe.is_empty()));
     }
 }

@@ -2,9 +2,10 @@
 //! log(h) (log(dt) for a 0D case) per case × sweep × space × scheme × quantity, with the RMS
 //! residual of the fit and the value expected from the literature where known.
 
+use super::jobs::{RunRecord, Status};
+use super::metrics::Metrics;
 use crate::error::Result;
-use crate::harness::{group_by, RunRecord, Status};
-use crate::metrics::Metrics;
+use crate::util::group_by;
 use std::path::Path;
 
 /// Least-squares slope of log(y) against log(x) and the RMS residual of the fit.

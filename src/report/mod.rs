@@ -1,0 +1,92 @@
+//! `dyncontact report`: runs every `[[sweep]]` of the case files (the [`crate::study`] layer) and
+//! writes, into one directory:
+//! - `summary.csv` (one row per run, deterministic), `timings.csv` (wall times), `orders.csv`;
+//! - convergence PNGs per case × sweep × quantity (one series per space for the sweep's first
+//!   scheme, one series per scheme for the reference space), each with a slope triangle;
+//! - energy and contact stress against time for every case;
+//! - `index.md` and `index.html` listing every figure and table with one sentence each.
+//!
+//! `dyncontact merge` rebuilds the same files (without the time histories, which need the time
+//! series) from record files written by `dyncontact sweep --shard i/n`.
+
+pub mod figures;
+pub mod index;
+
+use crate::cases::{self, CaseFile};
+use crate::error::{Error, Result};
+use crate::study::jobs::{self, RunRecord};
+use crate::study::orders;
+use crate::study::records::{read_records, write_records, write_timings};
+use crate::study::reference;
+use figures::{convergence_figures, time_histories, Figure};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Report settings.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Options {
+    /// Only the first `quick_levels` levels of every sweep.
+    pub quick: bool,
+    /// Progress bar on the terminal.
+    pub progress: bool,
+}
+
+/// Case files with `[[sweep]]` tables in `dir`, sorted by name, each read and parsed once.
+pub fn case_files(dir: &Path) -> Result<Vec<Arc<CaseFile>>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| Error::io(dir, e))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    let mut out = Vec::new();
+    for f in files {
+        let file = CaseFile::read(&f)?;
+        if !file
+            .build(&cases::Overrides::default())?
+            .sweeps()
+            .is_empty()
+        {
+            out.push(Arc::new(file));
+        }
+    }
+    Ok(out)
+}
+
+/// Runs every sweep of the case files in `cases_dir` and writes the report into `out`.
+pub fn report(cases_dir: &Path, out: &Path, opts: Options) -> Result<Vec<RunRecord>> {
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let files = case_files(cases_dir)?;
+    let mut all = Vec::new();
+    for f in &files {
+        all.extend(jobs::jobs(f, opts.quick)?);
+    }
+    let mut records = jobs::run_jobs(&all, opts.progress);
+    reference::reference_errors(&mut records);
+    let mut figures = Vec::new();
+    for f in &files {
+        figures.extend(time_histories(f, out, opts.quick)?);
+    }
+    write(out, &records, figures, opts.quick)?;
+    Ok(records)
+}
+
+/// Joins record files (from `sweep --shard`) into a report in `out` (no time histories).
+pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let mut records = Vec::new();
+    for f in files {
+        records.extend(read_records(f)?);
+    }
+    write(out, &records, Vec::new(), false)?;
+    Ok(records)
+}
+
+fn write(out: &Path, records: &[RunRecord], mut figures: Vec<Figure>, quick: bool) -> Result<()> {
+    write_records(&out.join("summary.csv"), records, false)?;
+    write_timings(&out.join("timings.csv"), records)?;
+    let orders = orders::orders(records);
+    orders::write_orders(&out.join("orders.csv"), &orders)?;
+    figures.splice(0..0, convergence_figures(out, records)?);
+    index::write_index(out, records, &orders, &figures, quick)
+}

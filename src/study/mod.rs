@@ -1,0 +1,14 @@
+//! The study layer: one [`run`] (its probe [`trajectory`] and [`metrics`]), the [`jobs`] of the
+//! `[[sweep]]` tables run in parallel, their [`records`] (streamed to disk, resumable),
+//! [`reference`] errors for cases without an exact solution, and observed [`orders`].
+//!
+//! Data flows one way: `trajectory` ← `metrics` ← `run` ← `jobs` ← `records`, `reference`,
+//! `orders`. The report ([`crate::report`]) reads this layer; nothing here reads the report.
+
+pub mod jobs;
+pub mod metrics;
+pub mod orders;
+pub mod records;
+pub mod reference;
+pub mod run;
+pub mod trajectory;

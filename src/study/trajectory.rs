@@ -1,0 +1,67 @@
+//! The probe time series of a run (one [`Row`] per step, and t = 0) and its `timeseries.csv`.
+//!
+//! `timeseries.csv`: `t, u_contact, v_contact, sigma_contact, energy, gap` and, when the case has
+//! an exact solution, `u_contact_exact, sigma_contact_exact, energy_exact`. `sigma_contact` is the
+//! normal contact stress σ_N = −λ/area (compression negative). Units are those of the case file
+//! (time, length, length/time, force/area, energy, length).
+
+use crate::error::Result;
+use crate::output::{csv::write_rows, fmt_float};
+use std::path::Path;
+
+/// One sample of the probe time series (one per step, and t = 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Row {
+    /// Time.
+    pub t: f64,
+    /// Displacement of the contact dof.
+    pub u_contact: f64,
+    /// Velocity of the contact point (inertial velocity dof of the probe).
+    pub v_contact: f64,
+    /// Normal contact stress σ_N = −λ/area (≤ 0).
+    pub sigma_contact: f64,
+    /// Total energy.
+    pub energy: f64,
+    /// Gap g = g₀ − B_N U at the probe.
+    pub gap: f64,
+    /// Exact `(u, σ_N, E)` at the contact point, when the case has an exact solution.
+    pub exact: Option<(f64, f64, f64)>,
+}
+
+/// Columns of `timeseries.csv` (then the `_exact` columns when present).
+pub const TIMESERIES_COLUMNS: &[&str] = &[
+    "t",
+    "u_contact",
+    "v_contact",
+    "sigma_contact",
+    "energy",
+    "gap",
+];
+/// Exact-solution columns of `timeseries.csv`.
+pub const EXACT_COLUMNS: &[&str] = &["u_contact_exact", "sigma_contact_exact", "energy_exact"];
+/// Writes `timeseries.csv`.
+pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
+    let exact = rows.first().is_some_and(|r| r.exact.is_some());
+    let mut header = TIMESERIES_COLUMNS.to_vec();
+    if exact {
+        header.extend_from_slice(EXACT_COLUMNS);
+    }
+    write_rows(
+        path,
+        &header,
+        rows.iter().map(|r| {
+            let mut v = vec![
+                r.t,
+                r.u_contact,
+                r.v_contact,
+                r.sigma_contact,
+                r.energy,
+                r.gap,
+            ];
+            if let Some((u, s, e)) = r.exact {
+                v.extend([u, s, e]);
+            }
+            v.into_iter().map(|x| fmt_float(Some(x)))
+        }),
+    )
+}
