@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 use dyncontact::cases::{self, Overrides};
 use dyncontact::study::{jobs, orders, records, reference, run};
 use dyncontact::Result;
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -247,7 +248,7 @@ fn main_result(cli: Cli) -> Result<()> {
                 t_end,
             };
             let case = cases::load(&case, &overrides)?;
-            let result = run::run(case.as_ref())?;
+            let result = run::run_with_progress(case.as_ref(), std::io::stdout().is_terminal())?;
             run::write_run(&out, &result)?;
             let s = &result.summary;
             let m = &s.metrics;

@@ -247,13 +247,13 @@ impl Contact {
         linalg::mul_add(out, &self.b_n, u, -1.0);
     }
 
-    /// Gap `g_i = g₀_i − (B_N U)_i` of contact point `i` alone (no allocation).
-    pub fn gap_at(&self, u: &[f64], i: usize) -> f64 {
-        self.g0[i]
-            - linalg::triplets(&self.b_n)
-                .filter(|&(r, _, _)| r == i)
-                .map(|(_, j, v)| v * u[j])
-                .sum::<f64>()
+    /// Row `i` of `B_N` as `(dof, value)` pairs (a pass over B_N: extract once, then
+    /// `g_i = g₀_i − Σ v u_dof` costs the row's length).
+    pub fn row(&self, i: usize) -> Vec<(usize, f64)> {
+        linalg::triplets(&self.b_n)
+            .filter(|&(r, _, _)| r == i)
+            .map(|(_, j, v)| (j, v))
+            .collect()
     }
 }
 
@@ -267,6 +267,29 @@ pub struct Probe {
     pub u_dof: usize,
     /// Velocity dof of the probe in the inertial variables.
     pub w_dof: usize,
+}
+
+/// [`Problem::energy`] with `M` (or `C`) and `K` stored as [`linalg::QuadraticForm`]s.
+#[derive(Debug)]
+pub struct EnergyForm<'a> {
+    kinetic: linalg::QuadraticForm,
+    stiffness: linalg::QuadraticForm,
+    /// F, when not zero.
+    load: Option<Vec<f64>>,
+    problem: &'a Problem,
+    work: Vec<f64>,
+}
+
+impl EnergyForm<'_> {
+    /// `E = ½ vᵀ M v + ½ Uᵀ K U − Fᵀ U (+ shift)`.
+    pub fn energy(&mut self, u: &[f64], v: &[f64]) -> f64 {
+        0.5 * self.kinetic.eval(v, &mut self.work) + 0.5 * self.stiffness.eval(u, &mut self.work)
+            - self
+                .load
+                .as_ref()
+                .map_or(0.0, |f| linalg::dot_unordered(f, u))
+            + self.problem.energy_shift
+    }
 }
 
 /// `M Ü + K U = F − B_Nᵀ λ` with complementarity, and its initial data.
@@ -301,6 +324,21 @@ impl Problem {
     pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
         self.inertia.kinetic(v) + 0.5 * linalg::quad(&self.k, u, u) - linalg::dot(&self.f, u)
             + self.energy_shift
+    }
+
+    /// The energy as stored quadratic forms, for evaluation at every step (see [`EnergyForm`]).
+    pub fn energy_form(&self) -> EnergyForm<'_> {
+        let kinetic = match &self.inertia {
+            Inertia::Sparse { m } => m,
+            Inertia::Mixed { c, .. } => c,
+        };
+        EnergyForm {
+            kinetic: linalg::QuadraticForm::new(kinetic),
+            stiffness: linalg::QuadraticForm::new(&self.k),
+            load: self.f.iter().any(|&x| x != 0.0).then(|| self.f.clone()),
+            problem: self,
+            work: Vec::new(),
+        }
     }
 
     /// Normal contact stress `σ_N = −λ / area` at contact point `i`.

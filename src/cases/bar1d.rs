@@ -220,10 +220,7 @@ impl Case for Bar1d {
     }
 
     fn field_error(&self) -> Option<Box<dyn FieldError + '_>> {
-        Some(Box::new(BarFieldError {
-            bar: self,
-            rule: gauss_legendre_01(3),
-        }))
+        Some(Box::new(BarFieldError::new(self)))
     }
 
     fn stress_is_function(&self) -> bool {
@@ -239,37 +236,141 @@ impl Case for Bar1d {
     }
 }
 
-/// L² and H¹-seminorm errors of a P_p field against the exact bar solution. Each element is split
-/// at the characteristics x = sL, (1 − s)L of the current phase, where the exact solution has kinks,
-/// so the 3-point Gauss rule is exact on every piece (integrand of degree ≤ 4).
+/// L² and H¹-seminorm errors of a P_p field against the exact bar solution, exact per element.
+///
+/// At time t the exact `u(·, t)` is linear in x between the characteristics x = sL, (1 − s)L of
+/// the current phase. On an element K that no characteristic cuts, `u_h − u` is therefore the
+/// P_p function with nodal values `e_k = u_h(x_k) − u(x_k, t)`, and
+/// `‖u_h − u‖²_{L²(K)} = h eᵀ M̂ e`, `|u_h − u|²_{H¹(K)} = eᵀ K̂ e / h` with the reference mass
+/// `M̂_ij = ∫₀¹ φ̂_i φ̂_j` and stiffness `K̂_ij = ∫₀¹ φ̂_i' φ̂_j'`. The (at most two) cut elements
+/// are split at the characteristics and integrated with the 3-point Gauss rule, exact on every
+/// piece (integrand of degree ≤ 4). Cost O(n) per sample with no allocation but one node buffer.
 struct BarFieldError<'a> {
     bar: &'a Bar1d,
     rule: Vec<(f64, f64)>,
+    /// `(h M̂, K̂ / h)` in local node order (left to right), padded to 3 × 3.
+    reference: ([[f64; 3]; 3], [[f64; 3]; 3]),
+}
+
+impl<'a> BarFieldError<'a> {
+    fn new(bar: &'a Bar1d) -> Self {
+        let (el, h) = (bar.space.element, bar.space.mesh.h());
+        let pad = |m: nalgebra::DMatrix<f64>| {
+            let mut a = [[0.0; 3]; 3];
+            for (i, row) in a.iter_mut().enumerate().take(m.nrows()) {
+                for (j, x) in row.iter_mut().enumerate().take(m.ncols()) {
+                    *x = m[(i, j)];
+                }
+            }
+            a
+        };
+        Self {
+            bar,
+            rule: gauss_legendre_01(3),
+            reference: (
+                pad(segment_mass(el, h, 1.0)),
+                pad(segment_stiffness(el, h, 1.0)),
+            ),
+        }
+    }
+
+    /// `∫_K (u_h − u)²` and `∫_K (u_h' − u')²` on element `e` by Gauss on its pieces between `cuts`.
+    fn by_quadrature(&self, u: &[f64], e: usize, t: f64, kinks: [f64; 2]) -> (f64, f64) {
+        let (s, ex) = (&self.bar.space, &self.bar.exact);
+        let h = s.mesh.h();
+        let xa = s.mesh.x_left(e);
+        let mut cuts = [xa, kinks[0], kinks[1], xa + h];
+        for c in &mut cuts[1..3] {
+            *c = c.clamp(xa, xa + h);
+        }
+        cuts.sort_by(f64::total_cmp);
+        let (mut l2, mut h1) = (0.0, 0.0);
+        for piece in cuts.windows(2) {
+            let len = piece[1] - piece[0];
+            for &(q, w) in &self.rule {
+                let x = piece[0] + q * len;
+                let (uh, duh) = s.eval_in(u, e, (x - xa) / h);
+                let (ue, sigma, _) = ex.field(x, t);
+                l2 += w * len * (uh - ue).powi(2);
+                h1 += w * len * (duh - sigma / ex.young).powi(2);
+            }
+        }
+        (l2, h1)
+    }
+}
+
+/// The exact `u(·, t)` as the linear function it is on each of the (up to three) intervals
+/// between 0, the two characteristics and L: `(right end, value at 0 of the line, slope)`.
+fn linear_pieces(ex: &BarImpact, t: f64, kinks: [f64; 2]) -> [(f64, f64, f64); 3] {
+    let l = ex.length;
+    let ends = [kinks[0], kinks[1], l];
+    let mut left = 0.0;
+    ends.map(|right| {
+        let mid = 0.5 * (left + right);
+        let (u, sigma, _) = ex.field(mid, t);
+        let slope = sigma / ex.young;
+        left = right;
+        (right, u - slope * mid, slope)
+    })
+}
+
+/// `Σ_K (eᵀ m e, eᵀ k e)` over the elements of N nodes (N − 1 = degree) whose nodal values are
+/// consecutive windows of `err` (m = h M̂, k = K̂ / h).
+fn nodal_sums<const N: usize>(err: &[f64], m: &[[f64; 3]; 3], k: &[[f64; 3]; 3]) -> (f64, f64) {
+    let (mut l2, mut h1) = (0.0, 0.0);
+    for w in err.windows(N).step_by(N - 1) {
+        let e: [f64; N] = w.try_into().unwrap_or([0.0; N]);
+        for i in 0..N {
+            for j in 0..N {
+                l2 += m[i][j] * e[i] * e[j];
+                h1 += k[i][j] * e[i] * e[j];
+            }
+        }
+    }
+    (l2, h1)
 }
 
 impl FieldError for BarFieldError<'_> {
     fn errors(&self, u: &[f64], t: f64) -> (f64, f64) {
         let s = &self.bar.space;
         let ex = &self.bar.exact;
-        let (l, h) = (ex.length, s.mesh.h());
+        let (l, h, p) = (ex.length, s.mesh.h(), s.element.degree);
         let frac = (ex.wave_speed() * t / l).rem_euclid(3.0).fract();
-        let kinks = [frac * l, (1.0 - frac) * l];
-        let (mut l2, mut h1) = (0.0, 0.0);
-        for e in 0..s.mesh.n_elements {
-            let (xa, xb) = (s.mesh.x_left(e), s.mesh.x_left(e) + h);
-            let mut cuts = vec![xa, xb];
-            cuts.extend(kinks.iter().copied().filter(|&k| k > xa && k < xb));
-            cuts.sort_by(f64::total_cmp);
-            for piece in cuts.windows(2) {
-                let len = piece[1] - piece[0];
-                for &(q, w) in &self.rule {
-                    let x = piece[0] + q * len;
-                    let (uh, duh) = s.eval_in(u, e, (x - xa) / h);
-                    let (ue, sigma, _) = ex.field(x, t);
-                    l2 += w * len * (uh - ue).powi(2);
-                    h1 += w * len * (duh - sigma / ex.young).powi(2);
-                }
+        let mut kinks = [frac * l, (1.0 - frac) * l];
+        kinks.sort_by(f64::total_cmp);
+        let pieces = linear_pieces(ex, t, kinks);
+        let mut piece = 0;
+        let mut exact_at = |x: f64| {
+            while x > pieces[piece].0 && piece < 2 {
+                piece += 1;
             }
+            pieces[piece].1 + pieces[piece].2 * x
+        };
+        let h_node = h / p as f64;
+        let nodal_error: Vec<f64> = (s.dof_of_node.iter().enumerate())
+            .map(|(i, d)| d.map_or(0.0, |d| u[d]) - exact_at(i as f64 * h_node))
+            .collect();
+        let (m, k) = &self.reference;
+        let (mut l2, mut h1) = match p {
+            1 => nodal_sums::<2>(&nodal_error, m, k),
+            _ => nodal_sums::<3>(&nodal_error, m, k),
+        };
+        // The elements cut by a characteristic: their nodal sums replaced by the piecewise rule.
+        for e in crate::util::unique(kinks.map(|c| (c / h).floor() as usize)) {
+            if e >= s.mesh.n_elements {
+                continue;
+            }
+            let xa = s.mesh.x_left(e);
+            if !kinks.iter().any(|&c| c > xa && c < xa + h) {
+                continue;
+            }
+            let (nm, nk) = match p {
+                1 => nodal_sums::<2>(&nodal_error[e..e + 2], m, k),
+                _ => nodal_sums::<3>(&nodal_error[2 * e..2 * e + 3], m, k),
+            };
+            let (a, b) = self.by_quadrature(u, e, t, kinks);
+            l2 += a - nm;
+            h1 += b - nk;
         }
         (l2.sqrt(), h1.sqrt())
     }

@@ -20,7 +20,7 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// Error evaluator of a full displacement field against the exact one.
-pub trait FieldError {
+pub trait FieldError: Sync {
     /// `(‖u_h − u‖_{L²(Ω)}, |u_h − u|_{H¹(Ω)})` at time t.
     fn errors(&self, u: &[f64], t: f64) -> (f64, f64);
 }

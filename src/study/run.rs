@@ -7,10 +7,12 @@ use crate::cases::Case;
 use crate::error::{Error, Result};
 use crate::output::plot::{time_plot, Series, PALETTE};
 use crate::output::{csv::write_rows, fmt_float};
-use crate::problem::Problem;
-use crate::time::Integrator;
+use crate::problem::{EnergyForm, Problem};
+use crate::time::{Integrator, State};
+use indicatif::{ProgressBar, ProgressStyle};
 use std::path::Path;
-use std::time::Instant;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
 
 /// Identification and cost of a run; [`Metrics`] hold the numbers.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,8 +50,18 @@ pub struct RunResult {
     pub summary: Summary,
 }
 
-/// Runs the case with its `[run]` settings.
+/// Runs the case with its `[run]` settings (no progress bar).
 pub fn run(case: &dyn Case) -> Result<RunResult> {
+    run_with_progress(case, false)
+}
+
+/// Runs the case; with `progress`, a bar with steps/s and ETA appears on stderr once the time
+/// loop has taken [`PROGRESS_AFTER`].
+///
+/// The time loop only steps and copies the state: the probe row (energy included) and the field
+/// errors of each sample are computed on a second thread from recycled copies, so a run costs
+/// what its solver costs on two cores.
+pub fn run_with_progress(case: &dyn Case, progress: bool) -> Result<RunResult> {
     let spec = case.run();
     let space = crate::space::by_name(&spec.space)?;
     let scheme = crate::time::by_name(&spec.scheme, spec.scheme_params())?;
@@ -61,21 +73,49 @@ pub fn run(case: &dyn Case) -> Result<RunResult> {
     let start = Instant::now();
     let mut integrator = scheme.prepare(&problem, spec.dt, solver)?;
     let steps = spec.steps();
-    let mut rows = Vec::with_capacity(steps + 1);
-    let mut field_errors = Vec::with_capacity(steps + 1);
-    let mut iterations = 0;
-    let sample = |it: &dyn Integrator, rows: &mut Vec<Row>, errs: &mut Vec<(f64, f64)>| {
-        let s = it.state();
-        rows.push(probe_row(&problem, &s, exact));
-        if let Some(f) = &field {
-            errs.push(f.errors(s.u, s.t));
+    let mut bar = Progress::new(progress, steps);
+    let (rows, field_errors, iterations) = std::thread::scope(|scope| -> Result<_> {
+        let (tx, rx) = mpsc::sync_channel::<Snapshot>(SAMPLE_QUEUE);
+        let (recycle, recycled) = mpsc::channel();
+        let (problem, field) = (&problem, &field);
+        let mut probe = Probe {
+            b_row: problem.contact.row(problem.probe.contact),
+            energy: problem.energy_form(),
+        };
+        let sampler = scope.spawn(move || {
+            let mut rows = Vec::with_capacity(steps + 1);
+            let mut errors = Vec::with_capacity(if field.is_some() { steps + 1 } else { 0 });
+            for snap in rx {
+                let s = snap.state();
+                rows.push(probe_row(problem, &mut probe, &s, exact));
+                if let Some(f) = field {
+                    errors.push(f.errors(s.u, s.t));
+                }
+                // The time loop may have finished: a snapshot nobody reuses is dropped.
+                let _ = recycle.send(snap);
+            }
+            (rows, errors)
+        });
+        let send = |it: &dyn Integrator| {
+            let mut snap: Snapshot = recycled.try_recv().unwrap_or_default();
+            snap.fill(&it.state());
+            tx.send(snap)
+                .map_err(|_| Error::Unsupported("the sampling thread stopped".into()))
+        };
+        send(integrator.as_ref())?;
+        let mut iterations = 0;
+        for n in 0..steps {
+            iterations += integrator.step()?.contact_iterations;
+            send(integrator.as_ref())?;
+            bar.update(n + 1);
         }
-    };
-    sample(integrator.as_ref(), &mut rows, &mut field_errors);
-    for _ in 0..steps {
-        iterations += integrator.step()?.contact_iterations;
-        sample(integrator.as_ref(), &mut rows, &mut field_errors);
-    }
+        drop(tx);
+        let (rows, errors) = sampler
+            .join()
+            .map_err(|_| Error::Unsupported("the sampling thread panicked".into()))?;
+        Ok((rows, errors, iterations))
+    })?;
+    bar.finish();
     let wall_time = start.elapsed().as_secs_f64();
     let metrics = metrics::compute(
         &rows,
@@ -102,9 +142,109 @@ pub fn run(case: &dyn Case) -> Result<RunResult> {
     })
 }
 
+/// Snapshots in flight between the time loop and the sampling thread.
+const SAMPLE_QUEUE: usize = 8;
+
+/// The time loop's state copied for the sampling thread (buffers recycled between steps).
+#[derive(Debug, Default)]
+struct Snapshot {
+    t: f64,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    /// The energy displacement when it is not U itself (three-level schemes).
+    energy_u: Option<Vec<f64>>,
+    lambda: Vec<f64>,
+}
+
+impl Snapshot {
+    fn fill(&mut self, s: &State<'_>) {
+        let copy = |dst: &mut Vec<f64>, src: &[f64]| {
+            dst.clear();
+            dst.extend_from_slice(src);
+        };
+        self.t = s.t;
+        copy(&mut self.u, s.u);
+        copy(&mut self.v, s.v);
+        copy(&mut self.lambda, s.lambda);
+        if std::ptr::eq(s.energy_u, s.u) {
+            self.energy_u = None;
+        } else {
+            copy(self.energy_u.get_or_insert_with(Vec::new), s.energy_u);
+        }
+    }
+
+    fn state(&self) -> State<'_> {
+        State {
+            t: self.t,
+            step: 0,
+            u: &self.u,
+            v: &self.v,
+            energy_u: self.energy_u.as_deref().unwrap_or(&self.u),
+            lambda: &self.lambda,
+        }
+    }
+}
+
+/// A run is this long before its progress bar appears.
+pub const PROGRESS_AFTER: Duration = Duration::from_secs(2);
+
+/// Progress of the time loop: a bar (steps/s, ETA) created once the loop has run for
+/// [`PROGRESS_AFTER`], only when asked for.
+struct Progress {
+    enabled: bool,
+    start: Instant,
+    steps: usize,
+    bar: Option<ProgressBar>,
+}
+
+impl Progress {
+    fn new(enabled: bool, steps: usize) -> Self {
+        Self {
+            enabled,
+            start: Instant::now(),
+            steps,
+            bar: None,
+        }
+    }
+
+    fn update(&mut self, step: usize) {
+        if !self.enabled || step % 32 != 0 {
+            return;
+        }
+        if self.bar.is_none() && self.start.elapsed() >= PROGRESS_AFTER {
+            let bar = ProgressBar::new(self.steps as u64);
+            bar.set_style(
+                ProgressStyle::with_template(
+                    "{bar:40} {pos}/{len} steps, {per_sec}, {elapsed} elapsed, ETA {eta}",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            );
+            self.bar = Some(bar);
+        }
+        if let Some(b) = &self.bar {
+            b.set_position(step as u64);
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
+
+/// What the sampling thread evaluates at every sample besides the probe dofs.
+struct Probe<'a> {
+    /// The probe's row of B_N.
+    b_row: Vec<(usize, f64)>,
+    energy: EnergyForm<'a>,
+}
+
+/// The probe's row of the time series.
 fn probe_row(
     problem: &Problem,
-    s: &crate::time::State<'_>,
+    probe: &mut Probe<'_>,
+    s: &State<'_>,
     exact: Option<&dyn crate::exact::ExactContact>,
 ) -> Row {
     let p = problem.probe;
@@ -113,8 +253,9 @@ fn probe_row(
         u_contact: s.u[p.u_dof],
         v_contact: s.v[p.w_dof],
         sigma_contact: problem.contact_stress(s.lambda, p.contact),
-        energy: problem.energy(s.energy_u, s.v),
-        gap: problem.contact.gap_at(s.u, p.contact),
+        energy: probe.energy.energy(s.energy_u, s.v),
+        gap: problem.contact.g0[p.contact]
+            - probe.b_row.iter().map(|&(j, v)| v * s.u[j]).sum::<f64>(),
         exact: exact.map(|e| {
             let c = e.contact(s.t);
             (c.u, c.sigma, e.energy(s.t))
