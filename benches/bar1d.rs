@@ -41,7 +41,9 @@ fn simulate_with(case: &Bar1d, space: &str, scheme: &str, steps: usize) -> f64 {
     };
     let scheme = dyncontact::time::by_name(scheme, params).unwrap();
     let solver = dyncontact::contact::by_name("active_set", 1, 1e-3).unwrap();
-    let mut it = scheme.prepare(&problem, case.run().dt, solver).unwrap();
+    let mut it = scheme
+        .prepare(&problem, case.run().dt, solver.into())
+        .unwrap();
     for _ in 0..steps {
         it.step().unwrap();
     }

@@ -34,14 +34,14 @@ fn prepare_and_step(c: &mut Criterion, group: &str, file: &str, elements: usize)
         b.iter(|| {
             let problem = case.problem(space.as_ref()).unwrap();
             let it = scheme
-                .prepare(&problem, 1e-3, solver(problem.contact.len()))
+                .prepare(&problem, 1e-3, solver(problem.contact.len()).into())
                 .unwrap();
             black_box(it.state().u.len())
         })
     });
     let problem = case.problem(space.as_ref()).unwrap();
     let mut it = scheme
-        .prepare(&problem, 1e-3, solver(problem.contact.len()))
+        .prepare(&problem, 1e-3, solver(problem.contact.len()).into())
         .unwrap();
     for _ in 0..10 {
         it.step().unwrap();

@@ -44,14 +44,51 @@ impl TripletBuilder {
         }
     }
 
-    /// The assembled matrix.
+    /// The assembled matrix: entries bucketed by column (counting sort), then each column
+    /// sorted by row (stable: duplicates are summed in insertion order) and merged.
     pub fn build(&self) -> Result<SpMat> {
-        SpMat::try_new_from_triplets(self.nrows, self.ncols, &self.entries).map_err(|e| {
-            Error::Factorisation {
-                matrix: format!("{}x{} assembly", self.nrows, self.ncols),
-                reason: format!("{e:?}"),
+        let (n, m) = (self.nrows, self.ncols);
+        if let Some(t) = self.entries.iter().find(|t| t.row >= n || t.col >= m) {
+            return Err(Error::Factorisation {
+                matrix: format!("{n}x{m} assembly"),
+                reason: format!("entry ({}, {}) out of bounds", t.row, t.col),
+            });
+        }
+        let mut start = vec![0usize; m + 1];
+        for t in &self.entries {
+            start[t.col + 1] += 1;
+        }
+        for j in 0..m {
+            start[j + 1] += start[j];
+        }
+        let mut next = start.clone();
+        let mut bucket = vec![(0usize, 0.0f64); self.entries.len()];
+        for t in &self.entries {
+            bucket[next[t.col]] = (t.row, t.val);
+            next[t.col] += 1;
+        }
+        let mut col_ptr = Vec::with_capacity(m + 1);
+        let mut row_idx = Vec::with_capacity(bucket.len());
+        let mut val = Vec::with_capacity(bucket.len());
+        col_ptr.push(0);
+        for j in 0..m {
+            let col = &mut bucket[start[j]..start[j + 1]];
+            col.sort_by_key(|e| e.0);
+            for &(i, v) in col.iter() {
+                if row_idx.len() > col_ptr[j] && row_idx.last() == Some(&i) {
+                    if let Some(last) = val.last_mut() {
+                        *last += v;
+                    }
+                } else {
+                    row_idx.push(i);
+                    val.push(v);
+                }
             }
-        })
+            col_ptr.push(row_idx.len());
+        }
+        let symbolic =
+            faer::sparse::SymbolicSparseColMat::new_checked(n, m, col_ptr, None, row_idx);
+        Ok(SpMat::new(symbolic, val))
     }
 }
 
@@ -91,20 +128,49 @@ pub fn mul_add(y: &mut [f64], a: &SpMat, x: &[f64], alpha: f64) {
     }
 }
 
+/// `(Aᵀ x)_j = Σ_i A_ij x_i`, the dot of column j with x.
+fn col_dot((cp, ri, v): (&[usize], &[usize], &[f64]), x: &[f64], j: usize) -> f64 {
+    let col = cp[j]..cp[j + 1];
+    ri[col.clone()]
+        .iter()
+        .zip(&v[col])
+        .map(|(&i, &vij)| vij * x[i])
+        .sum()
+}
+
+/// Above this many stored entries the column dots of [`gather`] and [`quad`] run over the rayon
+/// pool, in chunks of [`CHUNK`] columns (fixed: the result does not depend on the thread count).
+pub const PARALLEL_NNZ: usize = 200_000;
+/// Columns per parallel chunk.
+const CHUNK: usize = 2048;
+
+/// `f(y_j, (Aᵀ x)_j)` for every column j.
+fn gather(y: &mut [f64], a: &SpMat, x: &[f64], f: impl Fn(&mut f64, f64) + Sync) {
+    use rayon::prelude::*;
+    let arrays = csc(a);
+    if arrays.2.len() < PARALLEL_NNZ {
+        for (j, yj) in y.iter_mut().enumerate() {
+            f(yj, col_dot(arrays, x, j));
+        }
+    } else {
+        y.par_chunks_mut(CHUNK).enumerate().for_each(|(c, chunk)| {
+            for (k, yj) in chunk.iter_mut().enumerate() {
+                f(yj, col_dot(arrays, x, c * CHUNK + k));
+            }
+        });
+    }
+}
+
 /// `y += alpha · Aᵀ x`.
 pub fn mul_t_add(y: &mut [f64], a: &SpMat, x: &[f64], alpha: f64) {
     debug_assert_eq!(a.nrows(), x.len());
     debug_assert_eq!(a.ncols(), y.len());
-    let (cp, ri, v) = csc(a);
-    for (j, yj) in y.iter_mut().enumerate() {
-        let col = cp[j]..cp[j + 1];
-        let dot: f64 = ri[col.clone()]
-            .iter()
-            .zip(&v[col])
-            .map(|(&i, &vij)| vij * x[i])
-            .sum();
-        *yj += alpha * dot;
-    }
+    gather(y, a, x, |yj, d| *yj += alpha * d);
+}
+
+/// `y = A x` for a symmetric `A` (the gather form `Aᵀ x`).
+pub fn sym_mul(y: &mut [f64], a: &SpMat, x: &[f64]) {
+    gather(y, a, x, |yj, d| *yj = d);
 }
 
 /// `A x` as a new vector.
@@ -114,19 +180,22 @@ pub fn mul(a: &SpMat, x: &[f64]) -> Vec<f64> {
     y
 }
 
-/// `xᵀ A y` for a sparse `A` (no allocation).
+/// `xᵀ A y` for a sparse `A` (no allocation), as `Σ_j y_j (Aᵀ x)_j`; a large A in parallel
+/// chunks summed in chunk order.
 pub fn quad(a: &SpMat, x: &[f64], y: &[f64]) -> f64 {
-    let (cp, ri, v) = csc(a);
-    (0..a.ncols())
-        .map(|j| {
-            let col = cp[j]..cp[j + 1];
-            y[j] * ri[col.clone()]
-                .iter()
-                .zip(&v[col])
-                .map(|(&i, &vij)| x[i] * vij)
-                .sum::<f64>()
-        })
-        .sum()
+    use rayon::prelude::*;
+    let arrays = csc(a);
+    let part =
+        |cols: std::ops::Range<usize>| -> f64 { cols.map(|j| y[j] * col_dot(arrays, x, j)).sum() };
+    let n = a.ncols();
+    if arrays.2.len() < PARALLEL_NNZ {
+        return part(0..n);
+    }
+    let parts: Vec<f64> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| part(c * CHUNK..n.min((c + 1) * CHUNK)))
+        .collect();
+    parts.iter().sum()
 }
 
 /// The quadratic form `q(x) = xᵀ A x` of a square sparse matrix, for evaluation at every step.
@@ -134,11 +203,14 @@ pub fn quad(a: &SpMat, x: &[f64], y: &[f64]) -> f64 {
 /// Rows are summed first, `q(x) = Σ_i x_i (A x)_i`, so that the cancellation inside `(A x)_i`
 /// (a stiffness row applied to a smooth field) happens before the large products are added. A
 /// narrow-band matrix (1D meshes) is stored by diagonals, `(A x)_i = Σ_d A_{i,i+d} x_{i+d}`, and
-/// evaluated diagonal by diagonal in vectorised passes; any other matrix uses [`quad`].
+/// evaluated diagonal by diagonal in vectorised passes; a large block-structured one by
+/// [`BlockSym`]; any other matrix uses [`quad`].
 #[derive(Debug, Clone)]
 pub enum QuadraticForm {
     /// Diagonals `(d, A_{i,i+d} for every i)` with `|d| ≤` [`NARROW_BAND`].
     Band(Vec<(isize, Vec<f64>)>),
+    /// Node blocks (large vector problems: half the memory traffic), `q = x · (A x)`.
+    Block(BlockSym),
     /// The compressed-column matrix itself.
     General(SpMat),
 }
@@ -148,7 +220,10 @@ impl QuadraticForm {
     pub fn new(a: &SpMat) -> Self {
         let n = a.nrows();
         if bandwidth(a) > NARROW_BAND {
-            return Self::General(a.clone());
+            return match BlockSym::new(a) {
+                Some(b) if a.val().len() >= PARALLEL_NNZ => Self::Block(b),
+                _ => Self::General(a.clone()),
+            };
         }
         let b = NARROW_BAND as isize;
         let mut diagonals: Vec<(isize, Vec<f64>)> = (-b..=b).map(|d| (d, vec![0.0; n])).collect();
@@ -164,6 +239,11 @@ impl QuadraticForm {
     pub fn eval(&self, x: &[f64], ax: &mut Vec<f64>) -> f64 {
         let diagonals = match self {
             Self::General(a) => return quad(a, x, x),
+            Self::Block(b) => {
+                ax.resize(x.len(), 0.0);
+                b.mul(ax, x);
+                return dot_unordered(x, ax);
+            }
             Self::Band(d) => d,
         };
         let n = x.len();
@@ -220,12 +300,43 @@ pub fn axpy(y: &mut [f64], alpha: f64, x: &[f64]) {
     }
 }
 
-/// `A = a · X + b · Y` for two sparse matrices of the same shape (union of the patterns).
+/// `A = a · X + b · Y` for two sparse matrices of the same shape (union of the patterns), by a
+/// merge of their sorted columns (no triplet sort).
 pub fn lin_comb(a: f64, x: &SpMat, b: f64, y: &SpMat) -> Result<SpMat> {
-    let mut t = TripletBuilder::new(x.nrows(), x.ncols());
-    t.add_scaled(0, 0, a, x);
-    t.add_scaled(0, 0, b, y);
-    t.build()
+    let (n, m) = (x.nrows(), x.ncols());
+    if (y.nrows(), y.ncols()) != (n, m) {
+        return Err(Error::Factorisation {
+            matrix: format!("{n}x{m} + {}x{}", y.nrows(), y.ncols()),
+            reason: "shapes differ".into(),
+        });
+    }
+    let ((xp, xi, xv), (yp, yi, yv)) = (csc(x), csc(y));
+    let mut col_ptr = Vec::with_capacity(m + 1);
+    let mut row_idx = Vec::with_capacity(xv.len().max(yv.len()));
+    let mut val = Vec::with_capacity(row_idx.capacity());
+    col_ptr.push(0);
+    for j in 0..m {
+        let (mut p, mut q) = (xp[j], yp[j]);
+        while p < xp[j + 1] || q < yp[j + 1] {
+            let rx = if p < xp[j + 1] { xi[p] } else { usize::MAX };
+            let ry = if q < yp[j + 1] { yi[q] } else { usize::MAX };
+            let r = rx.min(ry);
+            let mut v = 0.0;
+            if rx == r {
+                v += a * xv[p];
+                p += 1;
+            }
+            if ry == r {
+                v += b * yv[q];
+                q += 1;
+            }
+            row_idx.push(r);
+            val.push(v);
+        }
+        col_ptr.push(row_idx.len());
+    }
+    let symbolic = faer::sparse::SymbolicSparseColMat::new_checked(n, m, col_ptr, None, row_idx);
+    Ok(SpMat::new(symbolic, val))
 }
 
 /// Which factorisation a [`Factor`] holds.
@@ -642,39 +753,125 @@ mod tests {
     }
 }
 
-/// `y = A x` for a symmetric `A` (gather form `Aᵀ x`, one independent dot per row), rows split
-/// over the rayon pool when `A` is large.
-pub fn sym_mul(y: &mut [f64], a: &SpMat, x: &[f64]) {
-    use rayon::prelude::*;
-    let (cp, ri, v) = csc(a);
-    let row = |j: usize| -> f64 {
-        let col = cp[j]..cp[j + 1];
-        ri[col.clone()]
-            .iter()
-            .zip(&v[col])
-            .map(|(&i, &vij)| vij * x[i])
-            .sum()
-    };
-    if v.len() < PARALLEL_NNZ {
-        for (j, yj) in y.iter_mut().enumerate() {
-            *yj = row(j);
+/// A symmetric sparse matrix stored by dense b × b blocks (b = 3 or 2: the node blocks of a
+/// vector field numbered node by node), for products at half the memory traffic of
+/// compressed columns (one 4-byte index per b² values). `y_J = Σ_I A_IJᵀ x_I` over the blocks
+/// of block column J, which by symmetry is `(A x)_J`.
+#[derive(Debug, Clone)]
+pub struct BlockSym {
+    b: usize,
+    ptr: Vec<usize>,
+    idx: Vec<u32>,
+    /// Block (I, J) row-major.
+    val: Vec<f64>,
+}
+
+impl BlockSym {
+    /// The block form of `a`, when its pattern is made of aligned b × b blocks for b = 3 or 2.
+    pub fn new(a: &SpMat) -> Option<Self> {
+        [3, 2].into_iter().find_map(|b| Self::with_block(a, b))
+    }
+
+    fn with_block(a: &SpMat, b: usize) -> Option<Self> {
+        let (cp, ri, v) = csc(a);
+        let n = a.ncols();
+        if n % b != 0 || a.nrows() != n || u32::try_from(n / b).is_err() {
+            return None;
         }
-    } else {
-        y.par_chunks_mut(4096).enumerate().for_each(|(c, chunk)| {
-            for (k, yj) in chunk.iter_mut().enumerate() {
-                *yj = row(c * 4096 + k);
+        let mut ptr = vec![0];
+        let (mut idx, mut val) = (Vec::new(), Vec::new());
+        for jb in 0..n / b {
+            let rows = &ri[cp[b * jb]..cp[b * jb + 1]];
+            if rows.len() % b != 0 {
+                return None;
             }
-        });
+            for c in 1..b {
+                if ri[cp[b * jb + c]..cp[b * jb + c + 1]] != *rows {
+                    return None;
+                }
+            }
+            for (k, block) in rows.chunks_exact(b).enumerate() {
+                if block[0] % b != 0 || block.iter().enumerate().any(|(r, &i)| i != block[0] + r) {
+                    return None;
+                }
+                idx.push((block[0] / b) as u32);
+                for r in 0..b {
+                    for c in 0..b {
+                        val.push(v[cp[b * jb + c] + b * k + r]);
+                    }
+                }
+            }
+            ptr.push(idx.len());
+        }
+        Some(Self { b, ptr, idx, val })
+    }
+
+    /// `y = A x`, block columns in parallel chunks.
+    pub fn mul(&self, y: &mut [f64], x: &[f64]) {
+        self.apply(y, x, |yi, v| *yi = v);
+    }
+
+    /// `y += alpha · A x`.
+    pub fn mul_add(&self, y: &mut [f64], x: &[f64], alpha: f64) {
+        self.apply(y, x, |yi, v| *yi += alpha * v);
+    }
+
+    fn apply(&self, y: &mut [f64], x: &[f64], f: impl Fn(&mut f64, f64) + Sync) {
+        match self.b {
+            3 => self.apply_b::<3>(y, x, f),
+            _ => self.apply_b::<2>(y, x, f),
+        }
+    }
+
+    fn apply_b<const B: usize>(&self, y: &mut [f64], x: &[f64], f: impl Fn(&mut f64, f64) + Sync) {
+        use rayon::prelude::*;
+        let column = |jb: usize, out: &mut [f64]| {
+            let mut acc = [0.0; B];
+            for k in self.ptr[jb]..self.ptr[jb + 1] {
+                let i = self.idx[k] as usize * B;
+                let blk = &self.val[k * B * B..(k + 1) * B * B];
+                let xi = &x[i..i + B];
+                // The block's product first, then one addition per block on the accumulator.
+                for (c, a) in acc.iter_mut().enumerate() {
+                    let t: f64 = (0..B).map(|r| blk[r * B + c] * xi[r]).sum();
+                    *a += t;
+                }
+            }
+            for (o, a) in out.iter_mut().zip(acc) {
+                f(o, a);
+            }
+        };
+        y.par_chunks_mut(CHUNK * B)
+            .enumerate()
+            .for_each(|(ch, chunk)| {
+                for (k, out) in chunk.chunks_exact_mut(B).enumerate() {
+                    column(ch * CHUNK + k, out);
+                }
+            });
     }
 }
 
-/// Above this many stored entries [`sym_mul`] runs in parallel.
-const PARALLEL_NNZ: usize = 200_000;
+/// The product of a symmetric matrix: by blocks where it has them, by compressed columns otherwise.
+#[derive(Debug, Clone)]
+enum SymOperator {
+    Block(BlockSym),
+    Csc(SpMat),
+}
+
+impl SymOperator {
+    fn mul(&self, y: &mut [f64], x: &[f64]) {
+        match self {
+            Self::Block(b) => b.mul(y, x),
+            Self::Csc(a) => sym_mul(y, a, x),
+        }
+    }
+}
 
 /// Jacobi-preconditioned conjugate gradients for an SPD matrix, with workspaces kept between
 /// solves (Hestenes–Stiefel 1952; the preconditioner `P = diag(A)`).
 #[derive(Debug, Clone)]
 pub struct Pcg {
+    op: SymOperator,
     inv_diag: Vec<f64>,
     r: Vec<f64>,
     z: Vec<f64>,
@@ -683,7 +880,8 @@ pub struct Pcg {
 }
 
 impl Pcg {
-    /// Workspaces and `diag(A)⁻¹`; errors when a diagonal entry is not positive (A not SPD).
+    /// Workspaces and `diag(A)⁻¹`; errors when a diagonal entry is negative (A not SPD). A dof
+    /// with a zero diagonal must be kept fixed (`free` false) in [`Pcg::solve`].
     pub fn new(a: &SpMat, name: &str) -> Result<Self> {
         check_finite(a, name)?;
         let n = a.nrows();
@@ -693,14 +891,18 @@ impl Pcg {
                 diag[i] += v;
             }
         }
-        if let Some(i) = diag.iter().position(|&d| d <= 0.0) {
+        if let Some(i) = diag.iter().position(|&d| d < 0.0) {
             return Err(factor_err(
                 name,
                 format!("not positive definite: diagonal entry {i} is {}", diag[i]),
             ));
         }
         Ok(Self {
-            inv_diag: diag.iter().map(|d| 1.0 / d).collect(),
+            op: BlockSym::new(a).map_or_else(|| SymOperator::Csc(a.clone()), SymOperator::Block),
+            inv_diag: diag
+                .iter()
+                .map(|&d| if d > 0.0 { 1.0 / d } else { 0.0 })
+                .collect(),
             r: vec![0.0; n],
             z: vec![0.0; n],
             p: vec![0.0; n],
@@ -713,13 +915,13 @@ impl Pcg {
     /// entries; returns the iterations, or `Err(‖r‖/‖b‖)` after `max_iter`.
     pub fn solve(
         &mut self,
-        a: &SpMat,
         b: &[f64],
         x: &mut [f64],
         free: &[bool],
         (tol, max_iter): (f64, usize),
     ) -> std::result::Result<usize, f64> {
         let Self {
+            op,
             inv_diag,
             r,
             z,
@@ -727,7 +929,7 @@ impl Pcg {
             q,
         } = self;
         let masked = |i: usize, v: f64| if free[i] { v } else { 0.0 };
-        sym_mul(q, a, x);
+        op.mul(q, x);
         let mut b2 = 0.0;
         for i in 0..x.len() {
             r[i] = masked(i, b[i] - q[i]);
@@ -743,18 +945,28 @@ impl Pcg {
             if it == max_iter {
                 return Err((res2 / b2).sqrt());
             }
-            sym_mul(q, a, p);
+            op.mul(q, p);
             for (i, qi) in q.iter_mut().enumerate() {
                 *qi = masked(i, *qi);
             }
-            let alpha = rz / dot(p, q);
-            axpy(x, alpha, p);
-            axpy(r, -alpha, q);
-            for ((zi, ri), di) in z.iter_mut().zip(r.iter()).zip(inv_diag.iter()) {
-                *zi = di * ri;
+            let alpha = rz / dot_unordered(p, q);
+            // One pass: x += αp, r −= αq, z = P⁻¹r, and the sums r·z, r·r (four lanes each).
+            let (mut rz4, mut rr4) = ([0.0; 4], [0.0; 4]);
+            for (k, (((xi, ri), zi), (pi, qi))) in x
+                .iter_mut()
+                .zip(r.iter_mut())
+                .zip(z.iter_mut())
+                .zip(p.iter().zip(q.iter()))
+                .enumerate()
+            {
+                *xi += alpha * pi;
+                *ri -= alpha * qi;
+                *zi = inv_diag[k] * *ri;
+                rz4[k % 4] += *ri * *zi;
+                rr4[k % 4] += *ri * *ri;
             }
-            let rz_new = dot(r, z);
-            res2 = dot(r, r);
+            let rz_new = rz4.iter().sum::<f64>();
+            res2 = rr4.iter().sum();
             scale_add(p, rz_new / rz, 1.0, z);
             rz = rz_new;
             it += 1;

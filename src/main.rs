@@ -97,6 +97,10 @@ enum Command {
         /// Relative compliance of the penalty contact solver.
         #[arg(long, allow_negative_numbers = true)]
         penalty: Option<f64>,
+        /// Linear solver of the step matrix: auto (CG for large 3D problems with nodal contact,
+        /// direct otherwise), direct (sparse Cholesky / LU) or cg.
+        #[arg(long = "linear-solver")]
+        linear_solver: Option<String>,
         /// Polynomial degree of the displacement (1 or 2).
         #[arg(long)]
         degree: Option<usize>,
@@ -139,6 +143,10 @@ fn list(dir: &PathBuf) -> Result<()> {
     println!(
         "contact solvers: {}",
         dyncontact::contact::SOLVERS.join(", ")
+    );
+    println!(
+        "linear solvers: {}",
+        dyncontact::time::LINEAR_SOLVERS.join(", ")
     );
     Ok(())
 }
@@ -226,6 +234,7 @@ fn main_result(cli: Cli) -> Result<()> {
             theta,
             contact_solver,
             penalty,
+            linear_solver,
             degree,
             elements,
             dt,
@@ -242,6 +251,7 @@ fn main_result(cli: Cli) -> Result<()> {
                 theta,
                 contact_solver,
                 penalty,
+                linear_solver,
                 degree,
                 elements,
                 dt,

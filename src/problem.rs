@@ -20,6 +20,8 @@ pub enum Inertia {
     Sparse {
         /// The mass matrix M.
         m: SpMat,
+        /// M by node blocks, for fast products when it is large ([`Inertia::sparse`]).
+        blocks: Option<linalg::BlockSym>,
     },
     /// Singular dynamic method (Renard 2010): `M = Bᵀ C⁻¹ B`, never formed. The inertial variables
     /// are `w = C⁻¹ B U`, the L²(ρ) projection of U on the velocity space H_h.
@@ -34,10 +36,19 @@ pub enum Inertia {
 }
 
 impl Inertia {
+    /// A sparse mass; a large block-structured one also stored by node blocks
+    /// ([`linalg::BlockSym`]) for the products of every step.
+    pub fn sparse(m: SpMat) -> Self {
+        let blocks = (m.compute_nnz() >= linalg::PARALLEL_NNZ)
+            .then(|| linalg::BlockSym::new(&m))
+            .flatten();
+        Self::Sparse { m, blocks }
+    }
+
     /// Number of inertial variables (n for a sparse mass, dim H_h for the mixed one).
     pub fn dim(&self) -> usize {
         match self {
-            Inertia::Sparse { m } => m.nrows(),
+            Inertia::Sparse { m, .. } => m.nrows(),
             Inertia::Mixed { c, .. } => c.nrows(),
         }
     }
@@ -58,8 +69,11 @@ impl Inertia {
     /// inertial vector `y`, as a force on the displacement dofs.
     pub fn apply_add(&self, out: &mut [f64], y: &[f64], alpha: f64) {
         match self {
+            Inertia::Sparse {
+                blocks: Some(b), ..
+            } => b.mul_add(out, y, alpha),
             // M is symmetric: the gather form `Mᵀ y` has no scattered stores.
-            Inertia::Sparse { m } => linalg::mul_t_add(out, m, y, alpha),
+            Inertia::Sparse { m, .. } => linalg::mul_t_add(out, m, y, alpha),
             Inertia::Mixed { b, .. } => linalg::mul_t_add(out, b, y, alpha),
         }
     }
@@ -67,7 +81,7 @@ impl Inertia {
     /// Kinetic energy `½ vᵀ M v` (sparse) or `½ vᵀ C v` (mixed, v ∈ H_h).
     pub fn kinetic(&self, v: &[f64]) -> f64 {
         match self {
-            Inertia::Sparse { m } => 0.5 * linalg::quad(m, v, v),
+            Inertia::Sparse { m, .. } => 0.5 * linalg::quad(m, v, v),
             Inertia::Mixed { c, .. } => 0.5 * linalg::quad(c, v, v),
         }
     }
@@ -85,7 +99,7 @@ impl Inertia {
     pub fn step_operator(&self, k: &SpMat, m_coef: f64, k_coef: f64) -> Result<StepOperator> {
         let n = k.nrows();
         match self {
-            Inertia::Sparse { m } => {
+            Inertia::Sparse { m, .. } => {
                 let a = linalg::lin_comb(m_coef, m, k_coef, k)?;
                 Ok(StepOperator {
                     factor: Factor::cholesky(&a, "step matrix m·M + k·K")?,
@@ -118,7 +132,7 @@ impl Inertia {
     /// is quasi-static). Mixed: `M_V A = r` with the consistent V_h mass M_V.
     pub fn acceleration(&self, r: &[f64]) -> Result<Vec<f64>> {
         match self {
-            Inertia::Sparse { m } => solve_on_massive_dofs(m, r),
+            Inertia::Sparse { m, .. } => solve_on_massive_dofs(m, r),
             Inertia::Mixed { consistent, .. } => {
                 let mut a = r.to_vec();
                 Factor::cholesky(consistent, "consistent mass")?.solve_in_place(&mut a);
@@ -128,6 +142,12 @@ impl Inertia {
     }
 }
 
+/// From this many dofs the mass is solved by Jacobi-PCG (a mass matrix is well conditioned:
+/// tens of iterations) instead of a sparse Cholesky, which fills in heavily in 3D.
+const MASS_CG_DOFS: usize = 50_000;
+/// Relative residual of that solve.
+const MASS_CG_TOLERANCE: f64 = 1e-12;
+
 /// Solves `M_rr a_r = r_r` on the dofs with `M_ii > 0`; `a = 0` on massless dofs.
 fn solve_on_massive_dofs(m: &SpMat, r: &[f64]) -> Result<Vec<f64>> {
     let n = m.nrows();
@@ -136,6 +156,17 @@ fn solve_on_massive_dofs(m: &SpMat, r: &[f64]) -> Result<Vec<f64>> {
         if i == j {
             diag[i] += v;
         }
+    }
+    if n >= MASS_CG_DOFS {
+        let massive: Vec<bool> = diag.iter().map(|&d| d > 0.0).collect();
+        let mut a = vec![0.0; n];
+        linalg::Pcg::new(m, "mass matrix")?
+            .solve(r, &mut a, &massive, (MASS_CG_TOLERANCE, 10 * n))
+            .map_err(|res| Error::Factorisation {
+                matrix: "mass matrix on its massive dofs".into(),
+                reason: format!("cg did not converge (relative residual {res:.3e})"),
+            })?;
+        return Ok(a);
     }
     let mut reduced = vec![None; n];
     let mut count = 0;
@@ -329,7 +360,7 @@ impl Problem {
     /// The energy as stored quadratic forms, for evaluation at every step (see [`EnergyForm`]).
     pub fn energy_form(&self) -> EnergyForm<'_> {
         let kinetic = match &self.inertia {
-            Inertia::Sparse { m } => m,
+            Inertia::Sparse { m, .. } => m,
             Inertia::Mixed { c, .. } => c,
         };
         EnergyForm {

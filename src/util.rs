@@ -37,6 +37,42 @@ pub fn content_hash(bytes: &[u8]) -> String {
     format!("{h:016x}")
 }
 
+/// Memory the system can still give (`MemAvailable` of `/proc/meminfo`, bytes); `None` where
+/// it cannot be read.
+pub fn available_memory() -> Option<f64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
+/// Refuses, before anything is allocated, a size `value` of `field` whose estimated memory
+/// `bytes` exceeds the memory available.
+pub fn check_memory(field: &str, value: impl std::fmt::Debug, bytes: f64) -> crate::Result<()> {
+    match available_memory() {
+        Some(avail) if bytes > avail => Err(crate::Error::invalid(
+            field,
+            value,
+            &format!(
+                "the run would need about {:.1} GiB, more than the {:.1} GiB available",
+                bytes / GIB,
+                avail / GIB
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
+/// Peak resident memory of this process so far (`VmHWM` of `/proc/self/status`, bytes).
+pub fn peak_memory() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -46,6 +82,19 @@ mod tests {
         assert_eq!(content_hash(b""), "cbf29ce484222325");
         assert_eq!(content_hash(b"a"), "af63dc4c8601ec8c");
         assert_eq!(content_hash(b"foobar"), "85944171f73967e8");
+    }
+
+    #[test]
+    fn a_size_beyond_the_available_memory_is_refused_with_the_estimate() {
+        let Some(avail) = available_memory() else {
+            return;
+        };
+        assert!(check_memory("mesh.elements", 10, avail / 2.0).is_ok());
+        let e = check_memory("mesh.elements", 10, 2.0 * avail)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("mesh.elements") && e.contains("GiB"), "{e}");
+        assert!(peak_memory().is_some_and(|p| p > 0.0));
     }
 
     #[test]

@@ -115,6 +115,9 @@ impl Bar1d {
         clamped: bool,
         run: RunSpec,
     ) -> Result<Self> {
+        // K, M and the step matrix (≤ 2p + 1 entries per row, 16 B each), and the vectors.
+        let dofs = (elements * degree) as f64;
+        crate::util::check_memory("mesh.elements", elements, dofs * (3.0 * 5.0 * 16.0 + 200.0))?;
         let mesh = IntervalMesh::new(exact.length, elements)?;
         let fixed: &[f64] = if clamped { &[exact.length] } else { &[] };
         Ok(Self {

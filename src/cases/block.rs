@@ -18,6 +18,7 @@ use crate::linalg::TripletBuilder;
 use crate::mesh::structured::StructuredMesh;
 use crate::problem::{Contact, Inertia, Probe, Problem};
 use crate::space::{ElementMass, ElementMixed, MassModel, Space};
+use rayon::prelude::*;
 use serde::Deserialize;
 
 /// `[material]`.
@@ -102,6 +103,24 @@ pub struct Block {
     pub history: Vec<super::sweep::HistorySpec>,
 }
 
+/// Estimated bytes of the assembly: the triplets of one global matrix (24 B per entry of every
+/// element matrix), then K, M and the step matrix compressed (16 B per stored entry, a node
+/// coupling to the (2p + 1)^d nodes around it).
+fn assembly_bytes(element: &RefElement, cells: [usize; 3]) -> f64 {
+    let (d, p) = (element.dim, element.degree);
+    let cells = &cells[..d];
+    let per_cell = if element.shape == Shape::Simplex {
+        [1, 1, 2, 6][d]
+    } else {
+        1
+    };
+    let elements = cells.iter().map(|&c| c as f64).product::<f64>() * per_cell as f64;
+    let nodes: f64 = cells.iter().map(|&c| (p * c + 1) as f64).product();
+    let local = (element.n_nodes() * d) as f64;
+    let coupled = ((2 * p + 1) as f64).powi(d as i32) * (d * d) as f64;
+    elements * local * local * 24.0 + 3.0 * nodes * coupled * 16.0
+}
+
 impl Block {
     /// Validates the spec, applies the overrides and builds the mesh.
     pub fn from_spec(spec: BlockSpec, o: &Overrides) -> Result<Self> {
@@ -166,6 +185,7 @@ impl Block {
         o.apply(&mut run);
         run.validate()?;
         let element = RefElement { shape, dim, degree };
+        crate::util::check_memory("mesh.elements", n, assembly_bytes(&element, cells))?;
         Ok(Self {
             kind,
             mesh: StructuredMesh::new(element, cells, size)?,
@@ -274,6 +294,7 @@ impl Case for Block {
         let el = mesh.element;
         let stiffness: Vec<(Vec<Option<usize>>, nalgebra::DMatrix<f64>)> =
             (0..mesh.connectivity.len())
+                .into_par_iter()
                 .map(|c| {
                     let (_, jac) = mesh.jacobian(c);
                     let k = element_stiffness(&el, &jac, self.lame);

@@ -84,6 +84,9 @@ pub struct RunSpec {
     /// Relative compliance of the `penalty` contact solver.
     #[serde(default = "default_penalty")]
     pub penalty: f64,
+    /// Linear solver of the step matrix: `auto`, `direct` or `cg`.
+    #[serde(default = "default_linear_solver")]
+    pub linear_solver: String,
 }
 
 fn default_beta() -> f64 {
@@ -100,6 +103,9 @@ fn default_alpha() -> f64 {
 }
 fn default_theta() -> f64 {
     SchemeParams::default().theta
+}
+fn default_linear_solver() -> String {
+    "auto".into()
 }
 fn default_penalty() -> f64 {
     crate::contact::DEFAULT_PENALTY
@@ -121,6 +127,7 @@ impl RunSpec {
             t_end,
             contact_solver: default_solver(),
             penalty: default_penalty(),
+            linear_solver: default_linear_solver(),
         }
     }
 }
@@ -140,6 +147,7 @@ impl RunSpec {
         crate::space::by_name(&self.space)?;
         crate::time::by_name(&self.scheme, self.scheme_params())?;
         crate::contact::by_name(&self.contact_solver, 0, self.penalty)?;
+        crate::time::LinearSolver::by_name(&self.linear_solver)?;
         Ok(())
     }
 
@@ -181,6 +189,8 @@ pub struct Overrides {
     pub contact_solver: Option<String>,
     /// `--penalty`.
     pub penalty: Option<f64>,
+    /// `--linear-solver`.
+    pub linear_solver: Option<String>,
     /// `--degree`.
     pub degree: Option<usize>,
     /// `--elements`.
@@ -209,6 +219,9 @@ impl Overrides {
             run.contact_solver = s.clone();
         }
         run.penalty = self.penalty.unwrap_or(run.penalty);
+        if let Some(s) = &self.linear_solver {
+            run.linear_solver = s.clone();
+        }
         run.dt = self.dt.unwrap_or(run.dt);
         run.t_end = self.t_end.unwrap_or(run.t_end);
     }

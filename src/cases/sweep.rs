@@ -198,6 +198,7 @@ fn combination(
         theta: choice.theta,
         contact_solver: choice.contact_solver.clone(),
         penalty: choice.penalty,
+        linear_solver: None,
         degree: degree.get(space).copied(),
         elements: level.elements,
         dt: Some(level.dt),

@@ -24,8 +24,6 @@ impl Space for Lumped {
     }
 
     fn inertia(&self, model: &MassModel) -> Result<Inertia> {
-        Ok(Inertia::Sparse {
-            m: model.assemble(|el, _| hrz(&el.mass))?,
-        })
+        Ok(Inertia::sparse(model.assemble(|el, _| hrz(&el.mass))?))
     }
 }

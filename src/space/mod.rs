@@ -55,11 +55,16 @@ pub struct MassModel {
 
 impl MassModel {
     /// Assembles `Σ_K Σ_c local(K, c)` over the elements and displacement components `c`.
-    pub fn assemble(&self, local: impl Fn(&ElementMass, usize) -> DMatrix<f64>) -> Result<SpMat> {
+    /// The element matrices are computed in parallel (rayon), in element order.
+    pub fn assemble(
+        &self,
+        local: impl Fn(&ElementMass, usize) -> DMatrix<f64> + Sync,
+    ) -> Result<SpMat> {
+        use rayon::prelude::*;
         let blocks: Vec<(Vec<Option<usize>>, DMatrix<f64>)> = self
             .elements
-            .iter()
-            .flat_map(|el| {
+            .par_iter()
+            .flat_map_iter(|el| {
                 let local = &local;
                 el.dofs
                     .iter()

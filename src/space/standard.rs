@@ -14,8 +14,6 @@ impl Space for Standard {
     }
 
     fn inertia(&self, model: &MassModel) -> Result<Inertia> {
-        Ok(Inertia::Sparse {
-            m: model.assemble(|el, _| el.mass.clone())?,
-        })
+        Ok(Inertia::sparse(model.assemble(|el, _| el.mass.clone())?))
     }
 }

@@ -241,6 +241,7 @@ fn failed_summary(job: &Job, case: Option<&dyn Case>) -> Summary {
         steps: 0,
         contact_iterations: 0,
         wall_time: 0.0,
+        max_rss: f64::NAN,
         metrics: Metrics::unavailable(),
     }
 }

@@ -14,40 +14,43 @@ pub const RECORD_COLUMNS: &[&str] = &["sweep", "level", "status", "reason"];
 /// The non-deterministic column of `summary.csv`, left out of the report's summary.
 const WALL_TIME: &str = "wall_time_s";
 
-/// Writes the records: [`RECORD_COLUMNS`] then `summary.csv`'s columns, without `wall_time_s`
-/// unless `with_timing` (so that two report runs give byte-identical files).
-pub fn write_records(path: &Path, records: &[RunRecord], with_timing: bool) -> Result<()> {
-    let keep: Vec<bool> = SUMMARY_COLUMNS
-        .iter()
-        .map(|c| with_timing || *c != WALL_TIME)
-        .collect();
+/// The header of a records file: [`RECORD_COLUMNS`] then `summary.csv`'s columns, without
+/// `wall_time_s` unless `with_timing`.
+pub fn record_header(with_timing: bool) -> Vec<&'static str> {
     let mut header = RECORD_COLUMNS.to_vec();
     header.extend(
         SUMMARY_COLUMNS
             .iter()
-            .zip(&keep)
-            .filter(|(_, k)| **k)
-            .map(|(c, _)| *c),
+            .filter(|c| with_timing || **c != WALL_TIME),
     );
+    header
+}
+
+/// The fields of one record under [`record_header`]`(with_timing)`.
+pub fn record_fields(r: &RunRecord, with_timing: bool) -> Vec<String> {
+    let mut v = vec![
+        r.sweep.clone(),
+        r.level.to_string(),
+        r.status.as_str().to_string(),
+        r.reason.clone(),
+    ];
+    v.extend(
+        summary_record(&r.summary)
+            .into_iter()
+            .zip(SUMMARY_COLUMNS)
+            .filter(|(_, c)| with_timing || **c != WALL_TIME)
+            .map(|(x, _)| x),
+    );
+    v
+}
+
+/// Writes the records under [`record_header`] (without `wall_time_s` unless `with_timing`, so
+/// that two report runs give byte-identical files).
+pub fn write_records(path: &Path, records: &[RunRecord], with_timing: bool) -> Result<()> {
     write_rows(
         path,
-        &header,
-        records.iter().map(|r| {
-            let mut v = vec![
-                r.sweep.clone(),
-                r.level.to_string(),
-                r.status.as_str().to_string(),
-                r.reason.clone(),
-            ];
-            v.extend(
-                summary_record(&r.summary)
-                    .into_iter()
-                    .zip(&keep)
-                    .filter(|(_, k)| **k)
-                    .map(|(x, _)| x),
-            );
-            v
-        }),
+        &record_header(with_timing),
+        records.iter().map(|r| record_fields(r, with_timing)),
     )
 }
 
@@ -64,9 +67,11 @@ pub const TIMING_COLUMNS: &[&str] = &[
     "wall_time_s",
     "time_per_step_s",
     "time_per_dof_step_s",
+    "max_rss_mb",
 ];
 
-/// Writes `timings.csv`: wall time of the time loop (prepare included), per step and per dof·step.
+/// Writes `timings.csv`: wall time of the time loop (prepare included), per step and per dof·step,
+/// and the process's peak resident memory when the run ended (MiB; runs in parallel share it).
 pub fn write_timings(path: &Path, records: &[RunRecord]) -> Result<()> {
     write_rows(
         path,
@@ -86,6 +91,7 @@ pub fn write_timings(path: &Path, records: &[RunRecord]) -> Result<()> {
                 format!("{:.6e}", s.wall_time),
                 format!("{per_step:.6e}"),
                 format!("{:.6e}", per_step / s.dofs.max(1) as f64),
+                format!("{:.1}", s.max_rss / 1048576.0),
             ]
         }),
     )
@@ -93,11 +99,23 @@ pub fn write_timings(path: &Path, records: &[RunRecord]) -> Result<()> {
 
 /// Reads records written by [`write_records`] (with or without the timing column).
 pub fn read_records(path: &Path) -> Result<Vec<RunRecord>> {
+    let reader = csv::Reader::from_path(path).map_err(|e| Error::Csv {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    Ok(read_keyed(reader, path)?.into_iter().map(|r| r.1).collect())
+}
+
+/// Records from a reader, each with its `key` column (empty when the file has none); `path`
+/// names the file in messages.
+pub fn read_keyed<R: std::io::Read>(
+    mut reader: csv::Reader<R>,
+    path: &Path,
+) -> Result<Vec<(String, RunRecord)>> {
     let err = |m: String| Error::Csv {
         path: path.to_path_buf(),
         message: m,
     };
-    let mut reader = csv::Reader::from_path(path).map_err(|e| err(e.to_string()))?;
     let header = reader.headers().map_err(|e| err(e.to_string()))?.clone();
     let col = |name: &str| header.iter().position(|h| h == name);
     for needed in RECORD_COLUMNS
@@ -130,38 +148,42 @@ pub fn read_records(path: &Path) -> Result<Vec<RunRecord>> {
         };
         let nan = |x: Option<f64>| x.unwrap_or(f64::NAN);
         let status = Status::parse(&text("status")).ok_or_else(|| err(at("status")))?;
-        out.push(RunRecord {
-            sweep: text("sweep"),
-            level: count("level")?,
-            status,
-            reason: text("reason"),
-            summary: Summary {
-                case: text("case"),
-                space: text("space"),
-                scheme: text("scheme"),
-                parameters: text("parameters"),
-                h: nan(float("h")?),
-                dt: nan(float("dt")?),
-                dofs: count("dofs")?,
-                steps: count("steps")?,
-                contact_iterations: count("contact_iterations")?,
-                wall_time: float(WALL_TIME)?.unwrap_or(0.0),
-                metrics: Metrics {
-                    energy_drift: nan(float("energy_drift")?),
-                    energy_ratio: nan(float("energy_ratio")?),
-                    max_penetration: nan(float("max_penetration")?),
-                    err_u_linf_l2: float("err_u_linf_l2")?,
-                    err_u_l2_h1: float("err_u_l2_h1")?,
-                    err_sigma_l2: float("err_sigma_l2")?,
-                    err_energy: float("err_energy")?,
-                    err_u_contact: float("err_u_contact")?,
-                    sigma_total_variation: nan(float("sigma_total_variation")?),
-                    restitution_eff: float("restitution_eff")?,
-                    impact_time_err: float("impact_time_err")?,
+        out.push((
+            text("key"),
+            RunRecord {
+                sweep: text("sweep"),
+                level: count("level")?,
+                status,
+                reason: text("reason"),
+                summary: Summary {
+                    case: text("case"),
+                    space: text("space"),
+                    scheme: text("scheme"),
+                    parameters: text("parameters"),
+                    h: nan(float("h")?),
+                    dt: nan(float("dt")?),
+                    dofs: count("dofs")?,
+                    steps: count("steps")?,
+                    contact_iterations: count("contact_iterations")?,
+                    wall_time: float(WALL_TIME)?.unwrap_or(0.0),
+                    max_rss: f64::NAN,
+                    metrics: Metrics {
+                        energy_drift: nan(float("energy_drift")?),
+                        energy_ratio: nan(float("energy_ratio")?),
+                        max_penetration: nan(float("max_penetration")?),
+                        err_u_linf_l2: float("err_u_linf_l2")?,
+                        err_u_l2_h1: float("err_u_l2_h1")?,
+                        err_sigma_l2: float("err_sigma_l2")?,
+                        err_energy: float("err_energy")?,
+                        err_u_contact: float("err_u_contact")?,
+                        sigma_total_variation: nan(float("sigma_total_variation")?),
+                        restitution_eff: float("restitution_eff")?,
+                        impact_time_err: float("impact_time_err")?,
+                    },
                 },
+                probe: Vec::new(),
             },
-            probe: Vec::new(),
-        });
+        ));
     }
     Ok(out)
 }

@@ -72,6 +72,7 @@ mod tests {
             steps: (1.0 / dt) as usize,
             contact_iterations: 0,
             wall_time: 0.0,
+            max_rss: f64::NAN,
             metrics: Metrics::default(),
         };
         let n = (1.0 / dt).round() as usize;

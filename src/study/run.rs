@@ -37,6 +37,9 @@ pub struct Summary {
     pub contact_iterations: usize,
     /// Wall time of the time loop in seconds (not deterministic; kept apart in reports).
     pub wall_time: f64,
+    /// Peak resident memory of the process when the run ended, bytes (`VmHWM`; with runs in
+    /// parallel, an upper bound of this run's; NaN where unknown).
+    pub max_rss: f64,
     /// Metrics of DESIGN.md §6.
     pub metrics: Metrics,
 }
@@ -63,6 +66,10 @@ pub fn run(case: &dyn Case) -> Result<RunResult> {
 /// what its solver costs on two cores.
 pub fn run_with_progress(case: &dyn Case, progress: bool) -> Result<RunResult> {
     let spec = case.run();
+    let steps = spec.steps();
+    // The time series and field errors kept per step (rows, copies in flight aside).
+    let per_step = (std::mem::size_of::<Row>() + 16) as f64;
+    crate::util::check_memory("run.dt", spec.dt, (steps + 1) as f64 * per_step)?;
     let space = crate::space::by_name(&spec.space)?;
     let scheme = crate::time::by_name(&spec.scheme, spec.scheme_params())?;
     let problem = case.problem(space.as_ref())?;
@@ -71,8 +78,11 @@ pub fn run_with_progress(case: &dyn Case, progress: bool) -> Result<RunResult> {
     let field = case.field_error();
     let exact = case.exact();
     let start = Instant::now();
-    let mut integrator = scheme.prepare(&problem, spec.dt, solver)?;
-    let steps = spec.steps();
+    let solvers = crate::time::Solvers {
+        contact: solver,
+        linear: crate::time::LinearSolver::by_name(&spec.linear_solver)?,
+    };
+    let mut integrator = scheme.prepare(&problem, spec.dt, solvers)?;
     let mut bar = Progress::new(progress, steps);
     let (rows, field_errors, iterations) = std::thread::scope(|scope| -> Result<_> {
         let (tx, rx) = mpsc::sync_channel::<Snapshot>(SAMPLE_QUEUE);
@@ -137,6 +147,7 @@ pub fn run_with_progress(case: &dyn Case, progress: bool) -> Result<RunResult> {
             steps,
             contact_iterations: iterations,
             wall_time,
+            max_rss: crate::util::peak_memory().unwrap_or(f64::NAN),
             metrics,
         },
     })

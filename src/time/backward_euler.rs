@@ -10,7 +10,6 @@
 use super::implicit::ContactStep;
 use super::stepper::{time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
-use crate::contact;
 use crate::error::Result;
 use crate::problem::Problem;
 
@@ -31,7 +30,7 @@ impl Scheme for BackwardEuler {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: Box<dyn contact::Solver>,
+        contact: super::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         let dt = time_step(problem, dt)?;
         let system = ContactStep::new(problem, (1.0, dt * dt), dt * dt, contact)?;

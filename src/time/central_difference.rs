@@ -14,10 +14,9 @@
 //! or all massless. Reports the half-step velocity and the midpoint energy like
 //! [`super::paoli_schatzman`].
 
-use super::implicit::ContactStep;
+use super::implicit::{ContactStep, LinearSolver};
 use super::stepper::{time_step, Stepper, ThreeLevel};
 use super::{Integrator, Scheme, State, StepInfo};
-use crate::contact;
 use crate::error::{Error, Result};
 use crate::linalg::{self, SpMat, TripletBuilder};
 use crate::problem::{Inertia, Problem};
@@ -44,10 +43,21 @@ impl Scheme for CentralDifference {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: Box<dyn contact::Solver>,
+        contact: super::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         let dt = time_step(problem, dt)?;
-        let Inertia::Sparse { m } = &problem.inertia else {
+        if contact.linear == LinearSolver::Cg {
+            return Err(Error::Unsupported(
+                "central_difference factors only its small quasi-static block; linear solver cg \
+                 does not apply (use auto or direct)"
+                    .into(),
+            ));
+        }
+        let contact = super::Solvers {
+            linear: LinearSolver::Direct,
+            ..contact
+        };
+        let Inertia::Sparse { m, .. } = &problem.inertia else {
             return Err(Error::Unsupported(
                 "central_difference needs a sparse mass matrix (standard, lumped, \
                  mass_redistribution or mass_elimination), not singular_dynamic"
@@ -59,7 +69,7 @@ impl Scheme for CentralDifference {
         let k_ss = restrict(&problem.k, &massless)?;
         let mut system =
             ContactStep::with_stiffness(problem, &k_ss, (1.0, dt * dt), dt * dt, contact)?;
-        let dt_max = CFL_SAFETY * critical_time_step(problem, m, &mut system, &massless);
+        let dt_max = CFL_SAFETY * critical_time_step(problem, m, &mut system, &massless)?;
         if dt > dt_max {
             return Err(Error::invalid(
                 "dt",
@@ -135,7 +145,7 @@ fn critical_time_step(
     m: &SpMat,
     system: &mut ContactStep,
     massless: &[bool],
-) -> f64 {
+) -> Result<f64> {
     let n = problem.n();
     // A deterministic start with every mode present.
     let mut x: Vec<f64> = (0..n)
@@ -149,11 +159,11 @@ fn critical_time_step(
         linalg::mul_add(&mut kx, &problem.k, &x, 1.0);
         let mx = linalg::quad(m, &x, &x);
         if mx <= 0.0 {
-            return f64::INFINITY;
+            return Ok(f64::INFINITY);
         }
         omega2 = f64::max(omega2, linalg::dot(&x, &kx) / mx);
         zero_where(&mut kx, massless);
-        system.solve_free(&kx, &mut x, &mut w);
+        system.solve_free(&kx, &mut x, &mut w)?;
         zero_where(&mut x, massless);
         let norm = linalg::dot(&x, &x).sqrt();
         if norm == 0.0 || !norm.is_finite() {
@@ -161,11 +171,11 @@ fn critical_time_step(
         }
         x.iter_mut().for_each(|v| *v /= norm);
     }
-    if omega2 > 0.0 {
+    Ok(if omega2 > 0.0 {
         2.0 / omega2.sqrt()
     } else {
         f64::INFINITY
-    }
+    })
 }
 
 struct CentralDifferenceIntegrator<'p> {
@@ -200,11 +210,11 @@ impl CentralDifferenceIntegrator<'_> {
     }
 
     /// `r_S = Δt² (F_S − K_SR U_{n+1,R})` from the massive part of the free solve.
-    fn quasi_static_rhs(&mut self) {
+    fn quasi_static_rhs(&mut self) -> Result<()> {
         let dt = self.s.dt;
         self.s
             .system
-            .solve_free(&self.s.rhs, &mut self.u_new, &mut self.w_new);
+            .solve_free(&self.s.rhs, &mut self.u_new, &mut self.w_new)?;
         zero_where(&mut self.u_new, &self.massless);
         self.scratch.fill(0.0);
         linalg::mul_add(&mut self.scratch, &self.s.problem.k, &self.u_new, 1.0);
@@ -213,6 +223,7 @@ impl CentralDifferenceIntegrator<'_> {
                 self.s.rhs[i] = dt * dt * (self.s.problem.f[i] - self.scratch[i]);
             }
         }
+        Ok(())
     }
 }
 
@@ -220,7 +231,7 @@ impl Integrator for CentralDifferenceIntegrator<'_> {
     fn step(&mut self) -> Result<StepInfo> {
         self.explicit_rhs();
         if self.quasi_static {
-            self.quasi_static_rhs();
+            self.quasi_static_rhs()?;
         }
         let info = self
             .s

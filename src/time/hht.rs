@@ -9,7 +9,6 @@
 
 use super::newmark::{Newmark, NewmarkIntegrator};
 use super::{Integrator, Scheme};
-use crate::contact;
 use crate::error::{in_range, Result};
 use crate::problem::Problem;
 
@@ -49,7 +48,7 @@ impl Scheme for Hht {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: Box<dyn contact::Solver>,
+        contact: super::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         Ok(Box::new(NewmarkIntegrator::new(
             problem,

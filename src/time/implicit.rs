@@ -9,9 +9,11 @@
 //! part is `Z` itself and is not stored twice); otherwise the corrected state is obtained by a
 //! second solve.
 
+use super::iterative::{nodal_points, IterativeStep};
 use crate::contact::{SolveInfo, Solver};
 use crate::error::{Error, Result};
 use crate::linalg;
+use crate::linalg::SpMat;
 use crate::problem::{Problem, StepOperator};
 use nalgebra::DMatrix;
 
@@ -33,8 +35,165 @@ fn row_dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
     row.iter().map(|&(j, v)| v * u[j]).sum()
 }
 
-/// Constant step operator with its contact coupling.
-pub struct ContactStep {
+/// How the step matrix is solved (`--linear-solver`, `[run] linear_solver`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LinearSolver {
+    /// [`LinearSolver::Cg`] where it applies and pays, [`LinearSolver::Direct`] otherwise; the rule
+    /// is [`cg_pays`].
+    #[default]
+    Auto,
+    /// Sparse Cholesky (LU for the singular dynamic saddle system), factored once, with the
+    /// Delassus operator on the contact dofs.
+    Direct,
+    /// Jacobi-preconditioned CG with a primal–dual active set ([`super::iterative`]).
+    Cg,
+}
+
+/// Linear solver names accepted by [`LinearSolver::by_name`].
+pub const LINEAR_SOLVERS: &[&str] = &["auto", "direct", "cg"];
+
+impl LinearSolver {
+    /// The linear solver called `name`.
+    pub fn by_name(name: &str) -> Result<Self> {
+        match name {
+            "auto" => Ok(Self::Auto),
+            "direct" => Ok(Self::Direct),
+            "cg" => Ok(Self::Cg),
+            _ => Err(Error::UnknownName {
+                kind: "linear solver",
+                name: name.to_string(),
+                known: LINEAR_SOLVERS.join(", "),
+            }),
+        }
+    }
+}
+
+/// Dofs from which [`LinearSolver::Auto`] considers CG.
+pub const AUTO_CG_DOFS: usize = 50_000;
+/// Stored entries per row of K from which [`LinearSolver::Auto`] considers CG (a 3D
+/// vector stencil: Q1 hexahedra have 81; 2D Q1 has 18, 2D Q2 and 3D P1 fewer than 60).
+pub const AUTO_CG_ROW_NNZ: usize = 60;
+
+/// The rule of [`LinearSolver::Auto`]: CG when the mass is a sparse matrix, the contact is nodal
+/// along axes, and the problem is large with a 3D-like stencil (n ≥ [`AUTO_CG_DOFS`], nnz(K)/n ≥
+/// [`AUTO_CG_ROW_NNZ`]), where the Cholesky factor fills in heavily and each of its solves costs
+/// tens of CG iterations; the direct factor otherwise (measured: README, Speed).
+pub fn cg_pays(problem: &Problem, k: &SpMat) -> bool {
+    let n = problem.n();
+    matches!(problem.inertia, crate::problem::Inertia::Sparse { .. })
+        && n >= AUTO_CG_DOFS
+        && k.compute_nnz() >= AUTO_CG_ROW_NNZ * n
+        && nodal_points(problem).is_ok()
+}
+
+/// Refuses a step matrix `m M + k K` in which the stiffness is below the round-off of the mass
+/// (`k max K_ii < ε m max M_ii`): the time step is then so small that K no longer enters the
+/// step (with a massless dof the matrix is singular), which would otherwise surface as a
+/// factorisation failure or a silently wrong solve.
+fn check_stiffness_resolved(
+    problem: &Problem,
+    k: &SpMat,
+    (m_coef, k_coef): (f64, f64),
+) -> Result<()> {
+    let max_diag = |a: &SpMat| {
+        linalg::triplets(a)
+            .filter(|(i, j, _)| i == j)
+            .fold(0.0_f64, |m, (_, _, v)| m.max(v.abs()))
+    };
+    let mass = match &problem.inertia {
+        crate::problem::Inertia::Sparse { m, .. } => max_diag(m),
+        crate::problem::Inertia::Mixed { c, .. } => max_diag(c),
+    };
+    let (stiff, mass) = (k_coef.abs() * max_diag(k), m_coef.abs() * mass);
+    if stiff > 0.0 && stiff >= f64::EPSILON * mass || max_diag(k) == 0.0 {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        "dt",
+        format!("a step matrix with stiffness factor {k_coef:.3e}"),
+        &format!(
+            "too small: the stiffness term of the step matrix ({stiff:.3e}) is below the \
+             round-off of its mass term ({mass:.3e}); increase dt"
+        ),
+    ))
+}
+
+/// The constant step operator with its contact coupling, solved directly or by CG.
+#[allow(clippy::large_enum_variant)]
+pub enum ContactStep {
+    /// Factored once, Delassus operator on the contact dofs.
+    Direct(DirectStep),
+    /// CG with an active set.
+    Iterative(IterativeStep),
+}
+
+impl ContactStep {
+    /// The step operator `m_coef M + k_coef K` with the solvers' choice (see [`DirectStep::new`]).
+    pub fn new(
+        problem: &Problem,
+        coefs: (f64, f64),
+        c: f64,
+        solvers: super::Solvers,
+    ) -> Result<Self> {
+        Self::with_stiffness(problem, &problem.k, coefs, c, solvers)
+    }
+
+    /// As [`ContactStep::new`] with the stiffness `k` in place of the problem's.
+    pub fn with_stiffness(
+        problem: &Problem,
+        k: &SpMat,
+        coefs: (f64, f64),
+        c: f64,
+        solvers: super::Solvers,
+    ) -> Result<Self> {
+        check_stiffness_resolved(problem, k, coefs)?;
+        let cg = match solvers.linear {
+            LinearSolver::Direct => false,
+            LinearSolver::Cg => true,
+            LinearSolver::Auto => cg_pays(problem, k),
+        };
+        Ok(if cg {
+            Self::Iterative(IterativeStep::new(problem, k, coefs, c)?)
+        } else {
+            Self::Direct(DirectStep::with_stiffness(
+                problem,
+                k,
+                coefs,
+                c,
+                solvers.contact,
+            )?)
+        })
+    }
+
+    /// Solves `A X = r` without contact.
+    pub fn solve_free(&mut self, r: &[f64], u: &mut [f64], w: &mut [f64]) -> Result<()> {
+        match self {
+            Self::Direct(s) => {
+                s.solve_free(r, u, w);
+                Ok(())
+            }
+            Self::Iterative(s) => s.solve_free(r, u, w),
+        }
+    }
+
+    /// Solves the step with the complementarity law (see [`DirectStep::solve`]).
+    pub fn solve(
+        &mut self,
+        problem: &Problem,
+        rhs: (&[f64], &[f64]),
+        x: (&mut [f64], &mut [f64]),
+        lambda: &mut [f64],
+        at: (usize, f64),
+    ) -> Result<SolveInfo> {
+        match self {
+            Self::Direct(s) => s.solve(problem, rhs, x, lambda, at),
+            Self::Iterative(s) => s.solve(rhs, x, lambda, at),
+        }
+    }
+}
+
+/// Constant step operator, factored once, with its contact coupling.
+pub struct DirectStep {
     op: StepOperator,
     solver: Box<dyn Solver>,
     /// `A⁻¹ B_Nᵀ`, when small enough to store.
@@ -47,7 +206,7 @@ pub struct ContactStep {
     b_rows: Vec<Vec<(usize, f64)>>,
 }
 
-impl ContactStep {
+impl DirectStep {
     /// Factors `m_coef M + k_coef K` and forms the Delassus matrix `D = c B_N A⁻¹ B_Nᵀ`
     /// (`c` is the factor of `B_Nᵀ λ` in the step equation).
     pub fn new(
@@ -59,7 +218,7 @@ impl ContactStep {
         Self::with_stiffness(problem, &problem.k, (m_coef, k_coef), c, solver)
     }
 
-    /// As [`ContactStep::new`] with the stiffness `k` in place of the problem's (central
+    /// As [`DirectStep::new`] with the stiffness `k` in place of the problem's (central
     /// difference puts only the block of its massless dofs in the step matrix).
     pub fn with_stiffness(
         problem: &Problem,

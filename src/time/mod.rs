@@ -15,6 +15,7 @@ pub mod backward_euler;
 pub mod central_difference;
 pub mod hht;
 pub mod implicit;
+pub mod iterative;
 pub mod moreau_jean;
 pub mod newmark;
 pub mod paoli_schatzman;
@@ -23,6 +24,7 @@ mod stepper;
 use crate::contact;
 use crate::error::{Error, Result};
 use crate::problem::Problem;
+pub use implicit::{LinearSolver, LINEAR_SOLVERS};
 
 /// Per-step report.
 #[derive(Debug, Clone, Copy, Default)]
@@ -71,8 +73,27 @@ pub trait Scheme: std::fmt::Debug + Send + Sync {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: Box<dyn contact::Solver>,
+        solvers: Solvers,
     ) -> Result<Box<dyn Integrator + 'p>>;
+}
+
+/// The solvers of an implicit step: the LCP solver on the contact dofs (direct step) and the
+/// linear solver of the step matrix.
+pub struct Solvers {
+    /// LCP solver of the direct step.
+    pub contact: Box<dyn contact::Solver>,
+    /// Direct factor or CG.
+    pub linear: LinearSolver,
+}
+
+impl From<Box<dyn contact::Solver>> for Solvers {
+    /// The contact solver with [`LinearSolver::Auto`].
+    fn from(contact: Box<dyn contact::Solver>) -> Self {
+        Self {
+            contact,
+            linear: LinearSolver::Auto,
+        }
+    }
 }
 
 /// Scheme names accepted on the CLI.

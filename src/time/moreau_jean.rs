@@ -15,7 +15,6 @@
 use super::implicit::ContactStep;
 use super::stepper::{time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
-use crate::contact;
 use crate::error::{in_range, Result};
 use crate::linalg;
 use crate::problem::Problem;
@@ -51,7 +50,7 @@ impl Scheme for MoreauJean {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: Box<dyn contact::Solver>,
+        contact: super::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         let dt = time_step(problem, dt)?;
         let th = self.theta * dt;

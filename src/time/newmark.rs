@@ -14,7 +14,6 @@
 use super::implicit::ContactStep;
 use super::stepper::{initial_acceleration, time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
-use crate::contact;
 use crate::error::{in_range, positive, Result};
 use crate::linalg;
 use crate::problem::Problem;
@@ -50,7 +49,7 @@ impl Scheme for Newmark {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: Box<dyn contact::Solver>,
+        contact: super::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         Ok(Box::new(NewmarkIntegrator::new(
             problem, dt, contact, *self, 0.0,
@@ -72,7 +71,7 @@ impl<'p> NewmarkIntegrator<'p> {
     pub fn new(
         problem: &'p Problem,
         dt: f64,
-        contact: Box<dyn contact::Solver>,
+        contact: super::Solvers,
         p: Newmark,
         alpha: f64,
     ) -> Result<Self> {

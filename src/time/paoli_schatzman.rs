@@ -17,7 +17,6 @@
 use super::implicit::ContactStep;
 use super::stepper::{time_step, Stepper, ThreeLevel};
 use super::{Integrator, Scheme, State, StepInfo};
-use crate::contact;
 use crate::error::{in_range, Result};
 use crate::linalg;
 use crate::problem::Problem;
@@ -50,7 +49,7 @@ impl Scheme for PaoliSchatzman {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: Box<dyn contact::Solver>,
+        contact: super::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         let dt = time_step(problem, dt)?;
         let e = self.restitution;

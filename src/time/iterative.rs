@@ -1,0 +1,218 @@
+//! The contact-coupled step solved without a factorisation: preconditioned conjugate gradients
+//! on the constant step matrix `A = m M + k K` (SPD, mass-dominated at the time steps of
+//! elastodynamics: `k λ_max(M⁻¹K)` small, so CG converges in a few iterations from a good guess),
+//! and the Signorini law by a primal–dual active set on the contact points (Hintermüller, Ito,
+//! Kunisch, SIAM J. Optim. 13, 2003).
+//!
+//! Applies when every row of `B_N` is `b e_dᵀ` (nodal contact along a coordinate axis, distinct
+//! dofs d): on the active set 𝒜 the constraint `o_i − b_i U_{d_i} = 0` fixes U_{d_i}, and CG
+//! solves `A U = r` on the other dofs; then
+//! - `λ_i = (r − A U)_{d_i} / (c b_i)` on 𝒜 (the row of `A U = r − c B_Nᵀ λ`), 0 elsewhere;
+//! - `g_i = o_i − b_i U_{d_i}` off 𝒜;
+//! - 𝒜 ← {i ∈ 𝒜 : λ_i ≥ −τ_λ} ∪ {i ∉ 𝒜 : g_i < −τ_g}, until 𝒜 no longer changes.
+//!
+//! 𝒜 starts from the previous step's, and U from the cubic extrapolation
+//! `4U_n − 6U_{n−1} + 4U_{n−2} − U_{n−3}` of the previous solutions (error O(Δt⁴) on smooth
+//! motion; 9 CG iterations per step on block3d 32³ at Δt = 10⁻³, against 14 from the quadratic one).
+//! CG stops at `‖r‖₂ ≤` [`CG_TOLERANCE`] `‖b‖₂` (Jacobi preconditioner).
+
+use crate::contact::SolveInfo;
+use crate::error::{Error, Result};
+use crate::linalg::{self, Pcg, SpMat};
+use crate::problem::{Inertia, Problem};
+
+/// Relative residual at which CG stops. 1e-8 was measured to let the energy drift of block3d
+/// 32³ (mass redistribution, Newmark ½, ½, Δt = 10⁻³, T = 1) grow from 7.3e-6 to 7.0e-4: the
+/// step errors accumulate; at 1e-10 the trajectories agree with the direct solve to 1e-6.
+pub const CG_TOLERANCE: f64 = 1e-10;
+/// CG iterations allowed per solve.
+const CG_MAX_ITERATIONS: usize = 5000;
+/// Active-set updates allowed per step.
+const MAX_ACTIVE_SET_UPDATES: usize = 50;
+/// Relative thresholds τ of the active-set update (above CG's accuracy, so that round-off
+/// does not flip a grazing point).
+const ACTIVE_SET_TOLERANCE: f64 = 1e-8;
+
+/// The CG step with its active set and solution history.
+pub struct IterativeStep {
+    a: SpMat,
+    pcg: Pcg,
+    c: f64,
+    /// `(d_i, b_i)` of every contact point: row i of B_N is `b_i e_{d_i}ᵀ`.
+    points: Vec<(usize, f64)>,
+    free: Vec<bool>,
+    active: Vec<bool>,
+    /// The last three solutions, newest first, and how many are set.
+    history: [Vec<f64>; 4],
+    filled: usize,
+}
+
+impl IterativeStep {
+    /// Assembles `m M + k K`; `c` is the factor of `B_Nᵀ λ` in the step equation. Errors (naming
+    /// why) when the mass is not a sparse matrix or `B_N` is not nodal along axes.
+    pub fn new(problem: &Problem, k: &SpMat, (m_coef, k_coef): (f64, f64), c: f64) -> Result<Self> {
+        let Inertia::Sparse { m, .. } = &problem.inertia else {
+            return Err(Error::Unsupported(
+                "linear solver cg: the singular dynamic saddle system is not SPD (use direct)"
+                    .into(),
+            ));
+        };
+        let points = nodal_points(problem)?;
+        let a = linalg::lin_comb(m_coef, m, k_coef, k)?;
+        let n = a.nrows();
+        Ok(Self {
+            pcg: Pcg::new(&a, "step matrix m·M + k·K")?,
+            a,
+            c,
+            active: vec![false; points.len()],
+            points,
+            free: vec![true; n],
+            history: [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            filled: 0,
+        })
+    }
+
+    /// Solves `A U = r` without contact.
+    pub fn solve_free(&mut self, r: &[f64], u: &mut [f64], w: &mut [f64]) -> Result<()> {
+        self.free.fill(true);
+        self.extrapolate(u);
+        self.cg(r, u, (0, f64::NAN))?;
+        self.remember(u);
+        w.copy_from_slice(u);
+        Ok(())
+    }
+
+    /// Solves `A U = r − c B_Nᵀ λ` with the complementarity law on `o − B_N U` (`offset` = o;
+    /// `o_i = +∞` excludes point i) at `(step, time)` (for messages).
+    pub fn solve(
+        &mut self,
+        (r, offset): (&[f64], &[f64]),
+        (u, w): (&mut [f64], &mut [f64]),
+        lambda: &mut [f64],
+        at: (usize, f64),
+    ) -> Result<SolveInfo> {
+        self.extrapolate(u);
+        let scale = |x: &[f64]| x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        for update in 1..=MAX_ACTIVE_SET_UPDATES {
+            for (i, &(d, b)) in self.points.iter().enumerate() {
+                self.free[d] = !self.active[i];
+                if self.active[i] {
+                    u[d] = offset[i] / b;
+                }
+            }
+            self.cg(r, u, at)?;
+            let tau_g = ACTIVE_SET_TOLERANCE * scale(u).max(f64::MIN_POSITIVE);
+            let tau_l = ACTIVE_SET_TOLERANCE * scale(r).max(f64::MIN_POSITIVE) / self.c.abs();
+            let mut changed = false;
+            for (i, &(d, b)) in self.points.iter().enumerate() {
+                if self.active[i] {
+                    let l = (r[d] - row_times(&self.a, d, u)) / (self.c * b);
+                    lambda[i] = l.max(0.0);
+                    if l < -tau_l {
+                        self.active[i] = false;
+                        changed = true;
+                    }
+                } else {
+                    lambda[i] = 0.0;
+                    if offset[i] - b * u[d] < -tau_g {
+                        self.active[i] = true;
+                        changed = true;
+                    }
+                }
+            }
+            if !changed {
+                self.remember(u);
+                w.copy_from_slice(u);
+                return Ok(SolveInfo {
+                    iterations: update,
+                    active: self.active.iter().filter(|&&x| x).count(),
+                });
+            }
+        }
+        Err(Error::ContactSolver {
+            step: at.0,
+            time: at.1,
+            reason: format!(
+                "the active set of the cg step did not settle in {MAX_ACTIVE_SET_UPDATES} updates"
+            ),
+        })
+    }
+
+    fn cg(&mut self, r: &[f64], u: &mut [f64], (step, time): (usize, f64)) -> Result<()> {
+        self.pcg
+            .solve(r, u, &self.free, (CG_TOLERANCE, CG_MAX_ITERATIONS))
+            .map_err(|res| Error::ContactSolver {
+                step,
+                time,
+                reason: format!(
+                    "cg did not converge: relative residual {res:.3e} after \
+                     {CG_MAX_ITERATIONS} iterations"
+                ),
+            })?;
+        Ok(())
+    }
+
+    /// The initial guess: `u` itself, then the constant, linear, quadratic and cubic extrapolation of
+    /// the previous solutions.
+    fn extrapolate(&self, u: &mut [f64]) {
+        let [h0, h1, h2, h3] = &self.history;
+        match self.filled {
+            0 => {}
+            1 => u.copy_from_slice(h0),
+            2 => linalg::combine(u, (2.0, h0), (-1.0, h1)),
+            3 => {
+                for (((x, a), b), c) in u.iter_mut().zip(h0).zip(h1).zip(h2) {
+                    *x = 3.0 * (a - b) + c;
+                }
+            }
+            _ => {
+                for ((((x, a), b), c), d) in u.iter_mut().zip(h0).zip(h1).zip(h2).zip(h3) {
+                    *x = 4.0 * (a + c) - 6.0 * b - d;
+                }
+            }
+        }
+    }
+
+    fn remember(&mut self, u: &[f64]) {
+        self.history.rotate_right(1);
+        self.history[0].copy_from_slice(u);
+        self.filled = (self.filled + 1).min(4);
+    }
+}
+
+/// `(A u)_d`: row d of the symmetric A is its column d.
+fn row_times(a: &SpMat, d: usize, u: &[f64]) -> f64 {
+    let a = a.as_ref();
+    a.row_idx_of_col_raw(d)
+        .iter()
+        .zip(a.val_of_col(d))
+        .map(|(&i, &v)| v * u[i])
+        .sum()
+}
+
+/// `(d_i, b_i)` of every contact point, or why `B_N` is not nodal along axes.
+pub fn nodal_points(problem: &Problem) -> Result<Vec<(usize, f64)>> {
+    let b_n = &problem.contact.b_n;
+    let mut points: Vec<Option<(usize, f64)>> = vec![None; b_n.nrows()];
+    let mut seen = vec![false; b_n.ncols()];
+    let not_nodal = |why: &str| {
+        Error::Unsupported(format!(
+            "linear solver cg needs nodal contact along coordinate axes: {why} (use direct)"
+        ))
+    };
+    for (i, d, b) in linalg::triplets(b_n) {
+        if points[i].is_some() {
+            return Err(not_nodal(&format!("row {i} of B_N has several entries")));
+        }
+        if seen[d] {
+            return Err(not_nodal(&format!("dof {d} is in several rows of B_N")));
+        }
+        seen[d] = true;
+        points[i] = Some((d, b));
+    }
+    points
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| p.ok_or_else(|| not_nodal(&format!("row {i} of B_N is empty"))))
+        .collect()
+}
