@@ -2,7 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use dyncontact::cases::{self, Overrides};
-use dyncontact::study::{jobs, orders, records, reference, run};
+use dyncontact::study::{jobs, journal, orders, records, reference, run};
 use dyncontact::Result;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -39,6 +39,10 @@ enum Command {
         /// Only the first `quick_levels` levels of every sweep (under a minute).
         #[arg(long)]
         quick: bool,
+        /// Skip the runs already recorded in OUT/journal.csv (same case file content, space,
+        /// scheme, parameters and level) and run the others.
+        #[arg(long)]
+        resume: bool,
     },
     /// Join record files of `sweep --shard i/n` runs into a report (no time histories).
     Merge {
@@ -63,6 +67,10 @@ enum Command {
         /// Run only shard i of n (1-based), e.g. `--shard 2/8`; writes records-i-of-n.csv.
         #[arg(long, value_parser = parse_shard)]
         shard: Option<(usize, usize)>,
+        /// Skip the runs already recorded in the journal of OUT (journal.csv, or
+        /// journal-i-of-n.csv for a shard).
+        #[arg(long)]
+        resume: bool,
     },
     /// Run one case and write timeseries.csv, summary.csv, energy.png and contact.png.
     Run {
@@ -157,7 +165,13 @@ fn parse_shard(s: &str) -> std::result::Result<(usize, usize), String> {
     Ok((parse(i)?, parse(n)?))
 }
 
-fn sweep(cases: &[PathBuf], out: &Path, quick: bool, shard: Option<(usize, usize)>) -> Result<()> {
+fn sweep(
+    cases: &[PathBuf],
+    out: &Path,
+    quick: bool,
+    shard: Option<(usize, usize)>,
+    resume: bool,
+) -> Result<()> {
     let mut all = Vec::new();
     for c in cases {
         all.extend(jobs::jobs(&Arc::new(cases::CaseFile::read(c)?), quick)?);
@@ -167,7 +181,10 @@ fn sweep(cases: &[PathBuf], out: &Path, quick: bool, shard: Option<(usize, usize
     }
     std::fs::create_dir_all(out).map_err(|e| dyncontact::Error::io(out, e))?;
     eprintln!("running {} runs", all.len());
-    let mut records = jobs::run_jobs(&all, true);
+    let journal = shard.map_or("journal.csv".to_string(), |(i, n)| {
+        format!("journal-{i}-of-{n}.csv")
+    });
+    let mut records = journal::run_study(&all, out, &journal, resume, true)?;
     if shard.is_none() {
         reference::reference_errors(&mut records);
     }
@@ -200,11 +217,18 @@ fn main_result(cli: Cli) -> Result<()> {
             out,
             quick,
             shard,
-        } => sweep(&cases, &out, quick, shard),
-        Command::Report { out, cases, quick } => {
+            resume,
+        } => sweep(&cases, &out, quick, shard, resume),
+        Command::Report {
+            out,
+            cases,
+            quick,
+            resume,
+        } => {
             let opts = dyncontact::report::Options {
                 quick,
                 progress: true,
+                resume,
             };
             let records = dyncontact::report::report(&cases, &out, opts)?;
             println!(

@@ -1,11 +1,12 @@
-//! The report end to end on the quick sweeps: deterministic CSVs, every figure listed in the
-//! index, and `sweep --shard` + `merge` giving the same orders as one sweep.
+//! The report end to end on the quick sweeps: deterministic CSVs (also after a kill and
+//! `--resume`), every figure listed in the index, and `sweep --shard` + `merge` giving the same
+//! orders as one sweep.
 
 use std::collections::BTreeSet;
 use std::path::Path;
 use std::process::Command;
 
-fn dyncontact(args: &[&str]) {
+fn dyncontact(args: &[&str]) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
         .args(args)
         .output()
@@ -15,19 +16,62 @@ fn dyncontact(args: &[&str]) {
         "{args:?}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
+    String::from_utf8_lossy(&out.stderr).to_string()
+}
+
+/// Starts `report --quick` into `out` on one thread and kills it (SIGKILL) once its journal
+/// holds more than `runs` records; returns how many it held. Panics if the report ends first.
+fn killed_report(out: &Path, runs: usize) -> usize {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
+        .args(["report", "--quick", "--out", out.to_str().unwrap()])
+        .env("RAYON_NUM_THREADS", "1")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("binary starts");
+    let journal = out.join("journal.csv");
+    loop {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the report ended before it could be killed"
+        );
+        let recorded =
+            std::fs::read_to_string(&journal).map_or(0, |t| t.lines().count().max(1) - 1);
+        if recorded > runs {
+            child.kill().unwrap();
+            child.wait().unwrap();
+            return recorded;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
 }
 
 fn read(p: &Path) -> String {
     std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
+/// One report uninterrupted, one killed after some runs and resumed: the same bytes.
 #[test]
-fn quick_report_is_deterministic_and_indexed() {
+fn quick_report_is_deterministic_resumable_and_indexed() {
     let dir = tempfile::tempdir().unwrap();
     let (a, b) = (dir.path().join("a"), dir.path().join("b"));
-    for out in [&a, &b] {
-        dyncontact(&["report", "--quick", "--out", out.to_str().unwrap()]);
-    }
+    dyncontact(&["report", "--quick", "--out", a.to_str().unwrap()]);
+    let recorded = killed_report(&b, 10);
+    let total = read(&a.join("summary.csv")).lines().count() - 1;
+    assert!(recorded < total, "killed after {recorded} of {total} runs");
+    let log = dyncontact(&[
+        "report",
+        "--quick",
+        "--resume",
+        "--out",
+        b.to_str().unwrap(),
+    ]);
+    assert!(
+        log.contains(&format!(
+            "resuming: {recorded} of {total} runs already recorded"
+        )),
+        "{log}"
+    );
     for csv in ["summary.csv", "orders.csv"] {
         assert_eq!(read(&a.join(csv)), read(&b.join(csv)), "{csv} differs");
     }

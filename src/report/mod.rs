@@ -6,6 +6,10 @@
 //! - energy and contact stress against time for every case;
 //! - `index.md` and `index.html` listing every figure and table with one sentence each.
 //!
+//! Runs are streamed to `journal.csv` (and their probe series to `probes/`) as they finish;
+//! `report --resume` skips those already there and gives the same files as an uninterrupted
+//! report.
+//!
 //! `dyncontact merge` rebuilds the same files (without the time histories, which need the time
 //! series) from record files written by `dyncontact sweep --shard i/n`.
 
@@ -15,6 +19,7 @@ pub mod index;
 use crate::cases::{self, CaseFile};
 use crate::error::{Error, Result};
 use crate::study::jobs::{self, RunRecord};
+use crate::study::journal::run_study;
 use crate::study::orders;
 use crate::study::records::{read_records, write_records, write_timings};
 use crate::study::reference;
@@ -29,6 +34,8 @@ pub struct Options {
     pub quick: bool,
     /// Progress bar on the terminal.
     pub progress: bool,
+    /// Skip the runs already in `journal.csv` of the output directory.
+    pub resume: bool,
 }
 
 /// Case files with `[[sweep]]` tables in `dir`, sorted by name, each read and parsed once.
@@ -61,7 +68,7 @@ pub fn report(cases_dir: &Path, out: &Path, opts: Options) -> Result<Vec<RunReco
     for f in &files {
         all.extend(jobs::jobs(f, opts.quick)?);
     }
-    let mut records = jobs::run_jobs(&all, opts.progress);
+    let mut records = run_study(&all, out, "journal.csv", opts.resume, opts.progress)?;
     reference::reference_errors(&mut records);
     let mut figures = Vec::new();
     for f in &files {

@@ -34,6 +34,21 @@ pub struct Job {
     overrides: cases::Overrides,
 }
 
+impl Job {
+    /// What identifies the run across invocations: the case file's content hash, the sweep,
+    /// space, scheme with its parameters, and the level (`--quick` keeps the same keys).
+    pub fn key(&self) -> String {
+        format!(
+            "{}/{}/{}/{}/{}",
+            crate::util::content_hash(self.file.text.as_bytes()),
+            self.sweep,
+            self.space,
+            self.choice.label(),
+            self.level
+        )
+    }
+}
+
 /// Outcome of a run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Status {

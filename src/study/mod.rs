@@ -1,11 +1,12 @@
 //! The study layer: one [`run`] (its probe [`trajectory`] and [`metrics`]), the [`jobs`] of the
-//! `[[sweep]]` tables run in parallel, their [`records`] (streamed to disk, resumable),
+//! `[[sweep]]` tables run in parallel, streamed to a [`journal`] (resumable), their [`records`],
 //! [`reference`] errors for cases without an exact solution, and observed [`orders`].
 //!
 //! Data flows one way: `trajectory` ← `metrics` ← `run` ← `jobs` ← `records`, `reference`,
 //! `orders`. The report ([`crate::report`]) reads this layer; nothing here reads the report.
 
 pub mod jobs;
+pub mod journal;
 pub mod metrics;
 pub mod orders;
 pub mod records;
