@@ -77,6 +77,8 @@ struct Frame<'a> {
     /// Draw a marker at every point of solid curves.
     markers: bool,
     legend: SeriesLabelPosition,
+    /// Log axes (tick labels on both axes with [`tick`]).
+    log: bool,
 }
 
 impl<'a> Frame<'a> {
@@ -90,7 +92,29 @@ impl<'a> Frame<'a> {
             width: 1,
             markers: false,
             legend,
+            log: false,
         }
+    }
+}
+
+/// Key points of a log axis over `[lo, hi]`: 1, 2 and 5 times the powers of ten (the powers
+/// alone when the axis spans more than three decades; 1 to 9 times them when fewer than two
+/// would be inside), so that the tick labels are few and never run into each other.
+fn log_key_points(lo: f64, hi: f64) -> Vec<f64> {
+    let decades = lo.log10().floor() as i32..=hi.log10().ceil() as i32;
+    let points = |mantissas: &[f64]| -> Vec<f64> {
+        decades
+            .clone()
+            .flat_map(|k| mantissas.iter().map(move |m| m * 10f64.powi(k)))
+            .filter(|v| (lo..=hi).contains(v))
+            .collect()
+    };
+    let wide = (hi / lo).log10() > 3.0;
+    let nice = points(if wide { &[1.0] } else { &[1.0, 2.0, 5.0] });
+    if nice.len() >= 2 {
+        nice
+    } else {
+        points(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0])
     }
 }
 
@@ -125,13 +149,20 @@ where
         .x_label_area_size(45)
         .y_label_area_size(80)
         .build_cartesian_2d(x, y)?;
-    chart
-        .configure_mesh()
-        .x_desc(frame.x_label)
+    // Log key points are 1, 2, 5 (or 1 to 9) times a power of ten: one significant digit.
+    let fmt = |v: &f64| match frame.log && !(1e-2..1e4).contains(v) {
+        true => format!("{v:.0e}"),
+        false => tick(*v),
+    };
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(frame.x_label)
         .y_desc(frame.y_label)
-        .y_label_formatter(&|v| tick(*v))
-        .label_style(("sans-serif", 16))
-        .draw()?;
+        .y_label_formatter(&fmt)
+        .label_style(("sans-serif", 16));
+    if frame.log {
+        mesh.x_label_formatter(&fmt);
+    }
+    mesh.draw()?;
     draw_curves(&mut chart, series, frame)
 }
 
@@ -209,8 +240,17 @@ where
             chart.draw_series(LineSeries::new(points, style))?
         };
         let c = s.color;
-        anno.label(s.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+        let anno = anno.label(s.label.clone());
+        if s.dashed {
+            // Drawn as the curve is: two dashes.
+            anno.legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (8, 0)], c.stroke_width(2))
+                    + PathElement::new(vec![(12, 0), (20, 0)], c.stroke_width(2))
+            });
+        } else {
+            anno.legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+        }
         if frame.markers && !s.dashed {
             chart.draw_series(
                 s.points
@@ -267,6 +307,12 @@ pub fn loglog_plot(path: &Path, axes: LogLog<'_>, series: &[Series]) -> Result<(
         BLACK,
     )];
     all.extend(series.iter().cloned());
+    // x: the data with a margin; y: the data and the triangle, with room above for the legend
+    // (its height, 22 px a line over the 520 px of the axis, as a fraction of the log range).
+    let (left, right) = (x0 / 1.25, x1 * 1.25);
+    let (bottom, high) = (ya / 1.4, y1.max(yb) * 1.4);
+    let legend = ((22 * all.len() + 16) as f64 / 520.0).min(0.6);
+    let top = high * (high / bottom).powf(legend / (1.0 - legend));
     let frame = Frame {
         title: axes.title,
         x_label: axes.x_label,
@@ -275,16 +321,17 @@ pub fn loglog_plot(path: &Path, axes: LogLog<'_>, series: &[Series]) -> Result<(
         width: 2,
         markers: true,
         legend: SeriesLabelPosition::UpperLeft,
+        log: true,
     };
-    // Start the x axis at a power of ten so that it gets tick labels; leave room above the data
-    // for the legend.
-    let left = 10f64.powf((x0 * 0.8).log10().floor()) * 0.999;
-    let top = y1.max(yb) * 4.0 * 1.6f64.powi(all.len() as i32);
     render(
         path,
         &frame,
-        (left..x1 * 1.25).log_scale(),
-        (ya * 0.5..top).log_scale(),
+        (left..right)
+            .log_scale()
+            .with_key_points(log_key_points(left, right)),
+        (bottom..top)
+            .log_scale()
+            .with_key_points(log_key_points(bottom, top)),
         &all,
     )
 }

@@ -30,6 +30,11 @@ pub struct Metrics {
     /// `|t̂ − t*|` for the first impact: t̂ = t_{n−1} + g_{n−1}/(−v_{n−1}) before the first
     /// active step, t* exact.
     pub impact_time_err: Option<f64>,
+    /// Without exact solution: `err_u_contact` against the sweep's common reference
+    /// ([`super::reference`]).
+    pub err_u_contact_ref: Option<f64>,
+    /// Without exact solution: `err_sigma_l2` against the sweep's common reference.
+    pub err_sigma_l2_ref: Option<f64>,
 }
 
 impl Metrics {
@@ -122,6 +127,8 @@ pub fn compute(
         sigma_total_variation,
         restitution_eff,
         impact_time_err: impact.zip(exact_first_impact).map(|(a, b)| (a - b).abs()),
+        err_u_contact_ref: None,
+        err_sigma_l2_ref: None,
     }
 }
 

@@ -4,6 +4,7 @@
 
 use super::jobs::{RunRecord, Status};
 use super::metrics::Metrics;
+use super::reference::{common_reference, Series};
 use crate::error::Result;
 use crate::util::group_by;
 use std::path::Path;
@@ -29,13 +30,15 @@ pub fn fit_order(x: &[f64], y: &[f64]) -> (f64, f64) {
 pub type Quantity = (&'static str, fn(&Metrics) -> Option<f64>);
 
 /// The fitted quantities: displacement, energy, contact stress and impact time errors.
-pub const QUANTITIES: [Quantity; 6] = [
+pub const QUANTITIES: [Quantity; 8] = [
     ("err_u_linf_l2", |m| m.err_u_linf_l2),
     ("err_u_contact", |m| m.err_u_contact),
     ("err_u_l2_h1", |m| m.err_u_l2_h1),
     ("err_energy", |m| m.err_energy),
     ("err_sigma_l2", |m| m.err_sigma_l2),
     ("impact_time_err", |m| m.impact_time_err),
+    ("err_u_contact_ref", |m| m.err_u_contact_ref),
+    ("err_sigma_l2_ref", |m| m.err_sigma_l2_ref),
 ];
 
 /// Slope of the reference triangle drawn on convergence plots of `quantity`.
@@ -76,12 +79,37 @@ pub struct Order {
     pub fit: Option<(f64, f64)>,
     /// Levels used (status ok, error finite and > 0).
     pub points: usize,
+    /// What the errors are measured against: `exact`, `own finest level`, or the common
+    /// reference `<space> <scheme> (<parameters>) finest level`.
+    pub reference: String,
 }
 
 /// Observed orders per case × sweep × space × scheme × quantity, in record order.
 pub fn orders(records: &[RunRecord]) -> Vec<Order> {
     let mut out = Vec::new();
+    let common: Vec<((String, String), Option<Series>)> =
+        group_by(records, |r| (r.summary.case.clone(), r.sweep.clone()))
+            .into_iter()
+            .map(|(k, rs)| (k, common_reference(rs.into_iter())))
+            .collect();
     for ((case, sweep, space, scheme, parameters), runs) in group_by(records, |r| r.series_key()) {
+        // The probe errors of a case with an exact field solution are against it.
+        let exact = runs.iter().any(|r| r.summary.metrics.err_energy.is_some());
+        let reference_of = |quantity: &str| -> String {
+            if exact {
+                return "exact".into();
+            }
+            if !quantity.ends_with("_ref") {
+                return "own finest level".into();
+            }
+            common
+                .iter()
+                .find(|(k, _)| *k == (case.clone(), sweep.clone()))
+                .and_then(|(_, c)| c.as_ref())
+                .map_or_else(String::new, |(sp, sc, pa)| {
+                    format!("{sp} {sc} ({pa}) finest level")
+                })
+        };
         for (quantity, get) in QUANTITIES {
             let pts: Vec<(f64, f64)> = runs
                 .iter()
@@ -107,6 +135,7 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
                 quantity,
                 fit: (pts.len() >= 2).then(|| fit_order(&x, &y)),
                 points: pts.len(),
+                reference: reference_of(quantity),
             });
         }
     }
@@ -125,6 +154,7 @@ pub const ORDER_COLUMNS: &[&str] = &[
     "fit_residual",
     "points",
     "literature",
+    "reference",
 ];
 
 /// Writes `orders.csv` (orders and residuals with 4 decimals).
@@ -144,6 +174,7 @@ pub fn write_orders(path: &Path, orders: &[Order]) -> Result<()> {
                 o.fit.map_or_else(String::new, |f| format!("{:.4}", f.1)),
                 o.points.to_string(),
                 literature(&o.case, o.quantity).to_string(),
+                o.reference.clone(),
             ]
         }),
     )

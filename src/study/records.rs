@@ -179,6 +179,8 @@ pub fn read_keyed<R: std::io::Read>(
                         sigma_total_variation: nan(float("sigma_total_variation")?),
                         restitution_eff: float("restitution_eff")?,
                         impact_time_err: float("impact_time_err")?,
+                        err_u_contact_ref: float("err_u_contact_ref")?,
+                        err_sigma_l2_ref: float("err_sigma_l2_ref")?,
                     },
                 },
                 probe: Vec::new(),

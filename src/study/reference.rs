@@ -1,4 +1,8 @@
-//! Reference errors for cases without an exact solution.
+//! Reference errors for cases without an exact solution, at the probe, against two references:
+//! - `err_u_contact`, `err_sigma_l2`: the finest finished level of the same case × sweep × space
+//!   × scheme (a series converges to itself);
+//! - `err_u_contact_ref`, `err_sigma_l2_ref`: one common reference per case × sweep, the finest
+//!   finished level of [`common_reference`], so that the spaces' errors compare with each other.
 
 use super::jobs::RunRecord;
 use crate::util::group_by;
@@ -16,36 +20,90 @@ fn interpolate(series: &[(f64, f64)], t: f64) -> f64 {
     v0 + (v1 - v0) * (t - t0) / (t1 - t0)
 }
 
-/// For cases without an exact solution: `err_u_contact = max_n |u_h(t_n) − u_ref(t_n)|` and
-/// `err_sigma_l2 = (Σ_n Δt (σ_h − σ_ref)²)^{1/2}` at the probe, against the finest finished level
-/// of the same case × sweep × space × scheme (interpolated linearly in time; the probe must sit at
-/// the same point on every level: the block sweeps use even cell counts so that the centre of Γ_C
-/// is a vertex). The reference run itself gets no error. Frees the probe series.
+/// A run series within a case × sweep: `(space, scheme, parameters)`.
+pub type Series = (String, String, String);
+
+/// The common reference series of a case × sweep: mass redistribution when swept (else the
+/// first space), with the first scheme of the sweep.
+pub fn common_reference<'a>(group: impl Iterator<Item = &'a RunRecord> + Clone) -> Option<Series> {
+    let space = group
+        .clone()
+        .map(|r| &r.summary.space)
+        .find(|s| *s == "mass_redistribution")
+        .or_else(|| group.clone().map(|r| &r.summary.space).next())?
+        .clone();
+    let first = group.clone().next()?;
+    Some((
+        space,
+        first.summary.scheme.clone(),
+        first.summary.parameters.clone(),
+    ))
+}
+
+/// `(max_n |u − u_ref|, (Σ_n Δt (σ − σ_ref)²)^{1/2})` of a probe series against a reference
+/// probe series (interpolated linearly in time; the probe must sit at the same point on every
+/// level: the block sweeps use even cell counts so that the centre of Γ_C is a vertex).
+fn probe_errors(probe: &[(f64, f64, f64)], reference: &[(f64, f64, f64)], dt: f64) -> (f64, f64) {
+    let u_ref: Vec<(f64, f64)> = reference.iter().map(|p| (p.0, p.1)).collect();
+    let s_ref: Vec<(f64, f64)> = reference.iter().map(|p| (p.0, p.2)).collect();
+    let du = probe.iter().map(|p| (p.1 - interpolate(&u_ref, p.0)).abs());
+    let ds = probe
+        .iter()
+        .skip(1)
+        .map(|p| dt * (p.2 - interpolate(&s_ref, p.0)).powi(2));
+    (du.fold(0.0, f64::max), ds.sum::<f64>().sqrt())
+}
+
+/// The index of the finest level among `members` (records with a probe series).
+fn finest(records: &[RunRecord], members: &[usize]) -> Option<usize> {
+    members.iter().copied().max_by_key(|&i| records[i].level)
+}
+
+/// For cases without an exact solution (records carrying a probe series): the errors of the
+/// module doc; a reference run gets no error against itself. Frees the probe series.
 pub fn reference_errors(records: &mut [RunRecord]) {
-    for (_, indices) in group_by(0..records.len(), |&i| records[i].series_key()) {
-        let members: Vec<usize> = indices
-            .into_iter()
+    let with_probe = |records: &[RunRecord], idx: Vec<usize>| -> Vec<usize> {
+        idx.into_iter()
             .filter(|&i| !records[i].probe.is_empty())
-            .collect();
-        let Some(&finest) = members.iter().max_by_key(|&&i| records[i].level) else {
+            .collect()
+    };
+    for (_, indices) in group_by(0..records.len(), |&i| records[i].series_key()) {
+        let members = with_probe(records, indices);
+        let Some(top) = finest(records, &members) else {
             continue;
         };
-        let u_ref: Vec<(f64, f64)> = records[finest].probe.iter().map(|p| (p.0, p.1)).collect();
-        let s_ref: Vec<(f64, f64)> = records[finest].probe.iter().map(|p| (p.0, p.2)).collect();
-        for &i in members.iter().filter(|&&i| i != finest) {
+        let reference = std::mem::take(&mut records[top].probe);
+        for &i in members.iter().filter(|&&i| i != top) {
             let r = &mut records[i];
-            let dt = r.summary.dt;
-            let du = r
-                .probe
-                .iter()
-                .map(|p| (p.1 - interpolate(&u_ref, p.0)).abs());
-            let ds = r
-                .probe
-                .iter()
-                .skip(1)
-                .map(|p| dt * (p.2 - interpolate(&s_ref, p.0)).powi(2));
-            r.summary.metrics.err_u_contact = Some(du.fold(0.0, f64::max));
-            r.summary.metrics.err_sigma_l2 = Some(ds.sum::<f64>().sqrt());
+            let (eu, es) = probe_errors(&r.probe, &reference, r.summary.dt);
+            r.summary.metrics.err_u_contact = Some(eu);
+            r.summary.metrics.err_sigma_l2 = Some(es);
+        }
+        records[top].probe = reference;
+    }
+    let by_sweep = |i: &usize| (records[*i].summary.case.clone(), records[*i].sweep.clone());
+    for (_, indices) in group_by(0..records.len(), by_sweep) {
+        let Some(key) = common_reference(indices.iter().map(|&i| &records[i])) else {
+            continue;
+        };
+        let in_reference = |r: &RunRecord| {
+            (&r.summary.space, &r.summary.scheme, &r.summary.parameters) == (&key.0, &key.1, &key.2)
+        };
+        let members = with_probe(records, indices);
+        let series: Vec<usize> = members
+            .iter()
+            .copied()
+            .filter(|&i| in_reference(&records[i]))
+            .collect();
+        let Some(top) = finest(records, &series) else {
+            continue;
+        };
+        let reference = std::mem::take(&mut records[top].probe);
+        for &i in members.iter().filter(|&&i| i != top) {
+            let r = &mut records[i];
+            let (eu, es) = probe_errors(&r.probe, &reference, r.summary.dt);
+            r.summary.metrics.err_u_contact_ref = Some(eu);
+            r.summary.metrics.err_sigma_l2_ref = Some(es);
         }
     }
     for r in records.iter_mut() {
@@ -105,5 +163,21 @@ mod tests {
         assert!(es.unwrap() < 1e-4, "{es:?}");
         assert!(r[1].summary.metrics.err_u_contact.is_none());
         assert!(r.iter().all(|x| x.probe.is_empty()));
+    }
+
+    #[test]
+    fn the_common_reference_is_the_finest_mass_redistribution_level() {
+        let mut mr = record(1, 0.01, 0.5);
+        mr.summary.space = "mass_redistribution".into();
+        let mut r = vec![record(0, 0.1, 0.0), record(1, 0.01, 0.0), mr];
+        reference_errors(&mut r);
+        let m = |i: usize| r[i].summary.metrics;
+        // Against its own finest level the standard series converges to itself ...
+        assert!(m(0).err_u_contact.unwrap() < 2e-5);
+        // ... and against the common reference both levels are 0.5 away.
+        for i in [0, 1] {
+            assert!((m(i).err_u_contact_ref.unwrap() - 0.5).abs() < 2e-5, "{i}");
+        }
+        assert!(m(2).err_u_contact_ref.is_none() && m(2).err_u_contact.is_none());
     }
 }

@@ -297,6 +297,8 @@ pub const SUMMARY_COLUMNS: &[&str] = &[
     "sigma_total_variation",
     "restitution_eff",
     "impact_time_err",
+    "err_u_contact_ref",
+    "err_sigma_l2_ref",
 ];
 
 /// The fields of one summary row, in [`SUMMARY_COLUMNS`] order.
@@ -327,6 +329,8 @@ pub fn summary_record(s: &Summary) -> Vec<String> {
             Some(m.sigma_total_variation),
             m.restitution_eff,
             m.impact_time_err,
+            m.err_u_contact_ref,
+            m.err_sigma_l2_ref,
         ]
         .into_iter()
         .map(fmt_float),
