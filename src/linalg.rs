@@ -138,8 +138,7 @@ fn col_dot((cp, ri, v): (&[usize], &[usize], &[f64]), x: &[f64], j: usize) -> f6
         .sum()
 }
 
-/// Above this many stored entries the column dots of [`gather`] and [`quad`] run over the rayon
-/// pool, in chunks of [`CHUNK`] columns (fixed: the result does not depend on the thread count).
+/// Above this many stored entries the column dots of [`gather`] run over the rayon pool, in chunks of [`CHUNK`] columns (fixed: the result does not depend on the thread count).
 pub const PARALLEL_NNZ: usize = 200_000;
 /// Columns per parallel chunk.
 const CHUNK: usize = 2048;
@@ -180,22 +179,11 @@ pub fn mul(a: &SpMat, x: &[f64]) -> Vec<f64> {
     y
 }
 
-/// `xᵀ A y` for a sparse `A` (no allocation), as `Σ_j y_j (Aᵀ x)_j`; a large A in parallel
-/// chunks summed in chunk order.
+/// `xᵀ A y` for a sparse `A` (no allocation), as `Σ_j y_j (Aᵀ x)_j`, on the calling thread
+/// (it runs beside the time loop, on the sampling thread).
 pub fn quad(a: &SpMat, x: &[f64], y: &[f64]) -> f64 {
-    use rayon::prelude::*;
     let arrays = csc(a);
-    let part =
-        |cols: std::ops::Range<usize>| -> f64 { cols.map(|j| y[j] * col_dot(arrays, x, j)).sum() };
-    let n = a.ncols();
-    if arrays.2.len() < PARALLEL_NNZ {
-        return part(0..n);
-    }
-    let parts: Vec<f64> = (0..n.div_ceil(CHUNK))
-        .into_par_iter()
-        .map(|c| part(c * CHUNK..n.min((c + 1) * CHUNK)))
-        .collect();
-    parts.iter().sum()
+    (0..a.ncols()).map(|j| y[j] * col_dot(arrays, x, j)).sum()
 }
 
 /// The quadratic form `q(x) = xᵀ A x` of a square sparse matrix, for evaluation at every step.
@@ -241,7 +229,7 @@ impl QuadraticForm {
             Self::General(a) => return quad(a, x, x),
             Self::Block(b) => {
                 ax.resize(x.len(), 0.0);
-                b.mul(ax, x);
+                b.apply_serial(ax, x);
                 return dot_unordered(x, ax);
             }
             Self::Band(d) => d,
@@ -404,12 +392,26 @@ fn factor_err(name: &str, e: impl std::fmt::Debug) -> Error {
     }
 }
 
+/// From this order on, faer factors and solves on the rayon pool (both cores); below it the
+/// threads would cost more than they save.
+const PARALLEL_FACTOR_DOFS: usize = 50_000;
+
+/// faer's parallelism for a matrix of order `n`.
+fn par_for(n: usize) -> Par {
+    if n >= PARALLEL_FACTOR_DOFS {
+        Par::rayon(0)
+    } else {
+        Par::Seq
+    }
+}
+
 impl Factor {
     /// Sparse Cholesky of a symmetric positive definite matrix (both triangles stored; the lower
     /// one is read). `name` is used in the error when `A` is not numerically SPD.
     pub fn cholesky(a: &SpMat, name: &str) -> Result<Self> {
         check_finite(a, name)?;
         let n = a.nrows();
+        let par = par_for(n);
         // A narrow band (1D meshes) factors without fill in its own order; AMD otherwise.
         let identity: Vec<usize> = (0..n).collect();
         let ordering = if bandwidth(a) <= NARROW_BAND {
@@ -422,8 +424,8 @@ impl Factor {
                 .map_err(|e| factor_err(name, e))?;
         let mut values = vec![0.0; symbolic.len_val()];
         let req = symbolic
-            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
-            .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+            .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(1, par));
         let mut buffer = MemBuffer::try_new(req).map_err(|e| factor_err(name, e))?;
         symbolic
             .factorize_numeric_llt(
@@ -431,7 +433,7 @@ impl Factor {
                 a.as_ref(),
                 Side::Lower,
                 Default::default(),
-                Par::Seq,
+                par,
                 MemStack::new(&mut buffer),
                 Default::default(),
             )
@@ -470,18 +472,19 @@ impl Factor {
     pub fn lu(a: &SpMat, name: &str) -> Result<Self> {
         check_finite(a, name)?;
         let n = a.nrows();
+        let par = par_for(n);
         let symbolic = factorize_symbolic_lu(a.symbolic(), Default::default())
             .map_err(|e| factor_err(name, e))?;
         let mut numeric = NumericLu::new();
         let req = symbolic
-            .factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default())
-            .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+            .factorize_numeric_lu_scratch::<f64>(par, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(1, par));
         let mut buffer = MemBuffer::try_new(req).map_err(|e| factor_err(name, e))?;
         symbolic
             .factorize_numeric_lu(
                 &mut numeric,
                 a.as_ref(),
-                Par::Seq,
+                par,
                 MemStack::new(&mut buffer),
                 Default::default(),
             )
@@ -621,6 +624,11 @@ impl Simplicial {
             *wj = next;
         }
     }
+}
+
+/// True when `a` has bandwidth at most [`NARROW_BAND`] (1D meshes).
+pub fn is_narrow_band(a: &SpMat) -> bool {
+    bandwidth(a) <= NARROW_BAND
 }
 
 /// Largest bandwidth kept in the natural order by [`Factor::cholesky`].
@@ -816,14 +824,28 @@ impl BlockSym {
         self.apply(y, x, |yi, v| *yi += alpha * v);
     }
 
-    fn apply(&self, y: &mut [f64], x: &[f64], f: impl Fn(&mut f64, f64) + Sync) {
+    /// `y = A x` on the calling thread (beside the time loop, on the sampling thread).
+    pub fn apply_serial(&self, y: &mut [f64], x: &[f64]) {
         match self.b {
-            3 => self.apply_b::<3>(y, x, f),
-            _ => self.apply_b::<2>(y, x, f),
+            3 => self.apply_b::<3>(y, x, |yi, v| *yi = v, false),
+            _ => self.apply_b::<2>(y, x, |yi, v| *yi = v, false),
         }
     }
 
-    fn apply_b<const B: usize>(&self, y: &mut [f64], x: &[f64], f: impl Fn(&mut f64, f64) + Sync) {
+    fn apply(&self, y: &mut [f64], x: &[f64], f: impl Fn(&mut f64, f64) + Sync) {
+        match self.b {
+            3 => self.apply_b::<3>(y, x, f, true),
+            _ => self.apply_b::<2>(y, x, f, true),
+        }
+    }
+
+    fn apply_b<const B: usize>(
+        &self,
+        y: &mut [f64],
+        x: &[f64],
+        f: impl Fn(&mut f64, f64) + Sync,
+        parallel: bool,
+    ) {
         use rayon::prelude::*;
         let column = |jb: usize, out: &mut [f64]| {
             let mut acc = [0.0; B];
@@ -841,13 +863,16 @@ impl BlockSym {
                 f(o, a);
             }
         };
-        y.par_chunks_mut(CHUNK * B)
-            .enumerate()
-            .for_each(|(ch, chunk)| {
-                for (k, out) in chunk.chunks_exact_mut(B).enumerate() {
-                    column(ch * CHUNK + k, out);
-                }
-            });
+        let chunk = |(ch, chunk): (usize, &mut [f64])| {
+            for (k, out) in chunk.chunks_exact_mut(B).enumerate() {
+                column(ch * CHUNK + k, out);
+            }
+        };
+        if parallel {
+            y.par_chunks_mut(CHUNK * B).enumerate().for_each(chunk);
+        } else {
+            y.chunks_mut(CHUNK * B).enumerate().for_each(chunk);
+        }
     }
 }
 
