@@ -41,8 +41,15 @@ fn blocks(records: &[RunRecord], orders: &[Order], figures: &[Figure], quick: bo
         ),
         Block::Para(
             "`orders.csv`: observed orders (least-squares slope of log error against log h, or \
-             log dt for the 0D spring) with the RMS fit residual, the number of levels used and \
-             the literature's value where known."
+             log dt for the 0D spring) with the RMS fit residual, the number of levels used, \
+             the literature's value where known, and the reference the errors are measured \
+             against (exact, own finest level, or the sweep's common reference)."
+                .into(),
+        ),
+        Block::Para(
+            "`journal.csv` and `probes/`: every run as it finished (with its key and wall time) \
+             and the probe series of the cases without exact solution; `report --resume` skips \
+             the runs recorded there."
                 .into(),
         ),
     ];
