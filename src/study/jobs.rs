@@ -174,10 +174,10 @@ pub fn shard(jobs: Vec<Job>, (i, n): (usize, usize)) -> Result<Vec<Job>> {
         .collect())
 }
 
-/// Runs the jobs in parallel; `progress` shows a bar on the terminal. Records are in job order.
-pub fn run_jobs(jobs: &[Job], progress: bool) -> Vec<RunRecord> {
+/// A progress bar over `runs` runs (hidden unless `progress`).
+pub fn runs_bar(runs: usize, progress: bool) -> ProgressBar {
     let bar = if progress {
-        ProgressBar::new(jobs.len() as u64)
+        ProgressBar::new(runs as u64)
     } else {
         ProgressBar::hidden()
     };
@@ -185,6 +185,12 @@ pub fn run_jobs(jobs: &[Job], progress: bool) -> Vec<RunRecord> {
         ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {elapsed} elapsed, ETA {eta}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
+    bar
+}
+
+/// Runs the jobs in parallel; `progress` shows a bar on the terminal. Records are in job order.
+pub fn run_jobs(jobs: &[Job], progress: bool) -> Vec<RunRecord> {
+    let bar = runs_bar(jobs.len(), progress);
     let records = jobs
         .par_iter()
         .map(|j| {

@@ -10,12 +10,11 @@
 //! The outputs are always computed from what the journal holds, read back, so an interrupted
 //! and resumed study writes the same bytes as an uninterrupted one.
 
-use super::jobs::{run_job, Job, RunRecord};
+use super::jobs::{run_job, runs_bar, Job, RunRecord};
 use super::records::{read_keyed, record_fields, record_header};
 use crate::error::{Error, Result};
 use crate::output::{csv::write_rows, fmt_float};
 use crate::util::content_hash;
-use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::Write;
@@ -142,15 +141,7 @@ pub fn run_study(
             jobs.len()
         );
     }
-    let bar = if progress {
-        ProgressBar::new(todo.len() as u64)
-    } else {
-        ProgressBar::hidden()
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} runs, {elapsed} elapsed, ETA {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let bar = runs_bar(todo.len(), progress);
     todo.par_iter().try_for_each(|j| {
         let r = run_job(j);
         bar.inc(1);

@@ -54,9 +54,24 @@ fn probe_errors(probe: &[(f64, f64, f64)], reference: &[(f64, f64, f64)], dt: f6
     (du.fold(0.0, f64::max), ds.sum::<f64>().sqrt())
 }
 
-/// The index of the finest level among `members` (records with a probe series).
-fn finest(records: &[RunRecord], members: &[usize]) -> Option<usize> {
-    members.iter().copied().max_by_key(|&i| records[i].level)
+/// `set(metrics, err_u, err_σ)` of every record of `members` but the reference itself, the
+/// finest level of `series`, against that reference's probe series.
+fn against_finest(
+    records: &mut [RunRecord],
+    members: &[usize],
+    series: &[usize],
+    set: impl Fn(&mut super::metrics::Metrics, f64, f64),
+) {
+    let Some(top) = series.iter().copied().max_by_key(|&i| records[i].level) else {
+        return;
+    };
+    let reference = std::mem::take(&mut records[top].probe);
+    for &i in members.iter().filter(|&&i| i != top) {
+        let r = &mut records[i];
+        let (eu, es) = probe_errors(&r.probe, &reference, r.summary.dt);
+        set(&mut r.summary.metrics, eu, es);
+    }
+    records[top].probe = reference;
 }
 
 /// For cases without an exact solution (records carrying a probe series): the errors of the
@@ -69,17 +84,10 @@ pub fn reference_errors(records: &mut [RunRecord]) {
     };
     for (_, indices) in group_by(0..records.len(), |&i| records[i].series_key()) {
         let members = with_probe(records, indices);
-        let Some(top) = finest(records, &members) else {
-            continue;
-        };
-        let reference = std::mem::take(&mut records[top].probe);
-        for &i in members.iter().filter(|&&i| i != top) {
-            let r = &mut records[i];
-            let (eu, es) = probe_errors(&r.probe, &reference, r.summary.dt);
-            r.summary.metrics.err_u_contact = Some(eu);
-            r.summary.metrics.err_sigma_l2 = Some(es);
-        }
-        records[top].probe = reference;
+        against_finest(records, &members, &members, |m, eu, es| {
+            m.err_u_contact = Some(eu);
+            m.err_sigma_l2 = Some(es);
+        });
     }
     let by_sweep = |i: &usize| (records[*i].summary.case.clone(), records[*i].sweep.clone());
     for (_, indices) in group_by(0..records.len(), by_sweep) {
@@ -95,16 +103,10 @@ pub fn reference_errors(records: &mut [RunRecord]) {
             .copied()
             .filter(|&i| in_reference(&records[i]))
             .collect();
-        let Some(top) = finest(records, &series) else {
-            continue;
-        };
-        let reference = std::mem::take(&mut records[top].probe);
-        for &i in members.iter().filter(|&&i| i != top) {
-            let r = &mut records[i];
-            let (eu, es) = probe_errors(&r.probe, &reference, r.summary.dt);
-            r.summary.metrics.err_u_contact_ref = Some(eu);
-            r.summary.metrics.err_sigma_l2_ref = Some(es);
-        }
+        against_finest(records, &members, &series, |m, eu, es| {
+            m.err_u_contact_ref = Some(eu);
+            m.err_sigma_l2_ref = Some(es);
+        });
     }
     for r in records.iter_mut() {
         r.probe = Vec::new();

@@ -74,8 +74,8 @@ pub const AUTO_CG_DOFS: usize = 50_000;
 /// along axes, the problem has n ≥ [`AUTO_CG_DOFS`] dofs and K is not a narrow band (2D and 3D
 /// meshes, where the Cholesky factor fills in and each direct step also pays the Delassus
 /// correction over every active contact column); the direct factor otherwise, 1D included.
-/// Measured (README, Speed): block2d Q1 224² 27 against 42 ms per step, block3d Q1 32³ 52 ms
-/// against 0.56 s.
+/// Measured (README, Speed): block2d Q1 224² 19 against 42 ms per step, block3d Q1 32³ 41 ms
+/// against 0.56 s (and 65 s of prepare).
 pub fn cg_pays(problem: &Problem, k: &SpMat) -> bool {
     matches!(problem.inertia, crate::problem::Inertia::Sparse { .. })
         && problem.n() >= AUTO_CG_DOFS
