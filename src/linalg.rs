@@ -249,6 +249,15 @@ impl QuadraticForm {
     }
 }
 
+/// The diagonal of a square sparse matrix (duplicates summed).
+pub fn diagonal(a: &SpMat) -> Vec<f64> {
+    let mut d = vec![0.0; a.nrows()];
+    for (i, _, v) in triplets(a).filter(|(i, j, _)| i == j) {
+        d[i] += v;
+    }
+    d
+}
+
 /// Euclidean inner product summed in four interleaved partial sums (not bit-identical to
 /// [`dot`]; a sequential sum is bound by the latency of one addition per term).
 pub fn dot_unordered(x: &[f64], y: &[f64]) -> f64 {
@@ -1046,12 +1055,7 @@ impl Pcg {
     pub fn new(a: &SpMat, name: &str) -> Result<Self> {
         check_finite(a, name)?;
         let n = a.nrows();
-        let mut diag = vec![0.0; n];
-        for (i, j, v) in triplets(a) {
-            if i == j {
-                diag[i] += v;
-            }
-        }
+        let diag = diagonal(a);
         if let Some(i) = diag.iter().position(|&d| d < 0.0) {
             return Err(factor_err(
                 name,

@@ -20,8 +20,6 @@ pub enum Inertia {
     Sparse {
         /// The mass matrix M.
         m: SpMat,
-        /// M by node blocks, for fast products when it is large ([`Inertia::sparse`]).
-        blocks: Option<linalg::BlockSym>,
     },
     /// Singular dynamic method (Renard 2010): `M = Bᵀ C⁻¹ B`, never formed. The inertial variables
     /// are `w = C⁻¹ B U`, the L²(ρ) projection of U on the velocity space H_h.
@@ -36,19 +34,10 @@ pub enum Inertia {
 }
 
 impl Inertia {
-    /// A sparse mass; a large block-structured one also stored by node blocks
-    /// ([`linalg::BlockSym`]) for the products of every step.
-    pub fn sparse(m: SpMat) -> Self {
-        let blocks = (m.compute_nnz() >= linalg::PARALLEL_NNZ)
-            .then(|| linalg::BlockSym::new(&m))
-            .flatten();
-        Self::Sparse { m, blocks }
-    }
-
     /// Number of inertial variables (n for a sparse mass, dim H_h for the mixed one).
     pub fn dim(&self) -> usize {
         match self {
-            Inertia::Sparse { m, .. } => m.nrows(),
+            Inertia::Sparse { m } => m.nrows(),
             Inertia::Mixed { c, .. } => c.nrows(),
         }
     }
@@ -69,20 +58,9 @@ impl Inertia {
     /// inertial vector `y`, as a force on the displacement dofs.
     pub fn apply_add(&self, out: &mut [f64], y: &[f64], alpha: f64) {
         match self {
-            Inertia::Sparse {
-                blocks: Some(b), ..
-            } => b.mul_add(out, y, alpha),
             // M is symmetric: the gather form `Mᵀ y` has no scattered stores.
-            Inertia::Sparse { m, .. } => linalg::mul_t_add(out, m, y, alpha),
+            Inertia::Sparse { m } => linalg::mul_t_add(out, m, y, alpha),
             Inertia::Mixed { b, .. } => linalg::mul_t_add(out, b, y, alpha),
-        }
-    }
-
-    /// Kinetic energy `½ vᵀ M v` (sparse) or `½ vᵀ C v` (mixed, v ∈ H_h).
-    pub fn kinetic(&self, v: &[f64]) -> f64 {
-        match self {
-            Inertia::Sparse { m, .. } => 0.5 * linalg::quad(m, v, v),
-            Inertia::Mixed { c, .. } => 0.5 * linalg::quad(c, v, v),
         }
     }
 
@@ -99,7 +77,7 @@ impl Inertia {
     pub fn step_operator(&self, k: &SpMat, m_coef: f64, k_coef: f64) -> Result<StepOperator> {
         let n = k.nrows();
         match self {
-            Inertia::Sparse { m, .. } => {
+            Inertia::Sparse { m } => {
                 let a = linalg::lin_comb(m_coef, m, k_coef, k)?;
                 Ok(StepOperator {
                     factor: Factor::cholesky(&a, "step matrix m·M + k·K")?,
@@ -132,7 +110,7 @@ impl Inertia {
     /// is quasi-static). Mixed: `M_V A = r` with the consistent V_h mass M_V.
     pub fn acceleration(&self, r: &[f64]) -> Result<Vec<f64>> {
         match self {
-            Inertia::Sparse { m, .. } => solve_on_massive_dofs(m, r),
+            Inertia::Sparse { m } => solve_on_massive_dofs(m, r),
             Inertia::Mixed { consistent, .. } => {
                 let mut a = r.to_vec();
                 Factor::cholesky(consistent, "consistent mass")?.solve_in_place(&mut a);
@@ -151,12 +129,7 @@ const MASS_CG_TOLERANCE: f64 = 1e-12;
 /// Solves `M_rr a_r = r_r` on the dofs with `M_ii > 0`; `a = 0` on massless dofs.
 fn solve_on_massive_dofs(m: &SpMat, r: &[f64]) -> Result<Vec<f64>> {
     let n = m.nrows();
-    let mut diag = vec![0.0; n];
-    for (i, j, v) in linalg::triplets(m) {
-        if i == j {
-            diag[i] += v;
-        }
-    }
+    let diag = linalg::diagonal(m);
     if n >= MASS_CG_DOFS {
         let massive: Vec<bool> = diag.iter().map(|&d| d > 0.0).collect();
         let mut a = vec![0.0; n];
@@ -300,18 +273,21 @@ pub struct Probe {
     pub w_dof: usize,
 }
 
-/// [`Problem::energy`] with `M` (or `C`) and `K` stored as [`linalg::QuadraticForm`]s.
+/// The total energy `E = ½ vᵀ M v + ½ Uᵀ K U − Fᵀ U (+ shift)`, with `v` the inertial velocity
+/// (`C` in place of `M` for the mixed mass, v ∈ H_h), `M` (or `C`) and `K` stored as
+/// [`linalg::QuadraticForm`]s.
 #[derive(Debug)]
-pub struct EnergyForm<'a> {
+pub struct EnergyForm {
     kinetic: linalg::QuadraticForm,
     stiffness: linalg::QuadraticForm,
     /// F, when not zero.
     load: Option<Vec<f64>>,
-    problem: &'a Problem,
+    /// [`Problem::energy_shift`].
+    shift: f64,
     work: Vec<f64>,
 }
 
-impl EnergyForm<'_> {
+impl EnergyForm {
     /// `E = ½ vᵀ M v + ½ Uᵀ K U − Fᵀ U (+ shift)`.
     pub fn energy(&mut self, u: &[f64], v: &[f64]) -> f64 {
         0.5 * self.kinetic.eval(v, &mut self.work) + 0.5 * self.stiffness.eval(u, &mut self.work)
@@ -319,7 +295,7 @@ impl EnergyForm<'_> {
                 .load
                 .as_ref()
                 .map_or(0.0, |f| linalg::dot_unordered(f, u))
-            + self.problem.energy_shift
+            + self.shift
     }
 }
 
@@ -351,23 +327,17 @@ impl Problem {
         self.k.nrows()
     }
 
-    /// Total energy `E = ½ vᵀ M v + ½ Uᵀ K U − Fᵀ U (+ shift)`, with `v` the inertial velocity.
-    pub fn energy(&self, u: &[f64], v: &[f64]) -> f64 {
-        self.inertia.kinetic(v) + 0.5 * linalg::quad(&self.k, u, u) - linalg::dot(&self.f, u)
-            + self.energy_shift
-    }
-
-    /// The energy as stored quadratic forms, for evaluation at every step (see [`EnergyForm`]).
-    pub fn energy_form(&self) -> EnergyForm<'_> {
+    /// The total energy, as stored quadratic forms for evaluation at every step.
+    pub fn energy_form(&self) -> EnergyForm {
         let kinetic = match &self.inertia {
-            Inertia::Sparse { m, .. } => m,
+            Inertia::Sparse { m } => m,
             Inertia::Mixed { c, .. } => c,
         };
         EnergyForm {
             kinetic: linalg::QuadraticForm::new(kinetic),
             stiffness: linalg::QuadraticForm::new(&self.k),
             load: self.f.iter().any(|&x| x != 0.0).then(|| self.f.clone()),
-            problem: self,
+            shift: self.energy_shift,
             work: Vec::new(),
         }
     }

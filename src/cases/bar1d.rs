@@ -277,7 +277,8 @@ impl<'a> BarFieldError<'a> {
         }
     }
 
-    /// `∫_K (u_h − u)²` and `∫_K (u_h' − u')²` on element `e` by Gauss on its pieces between `cuts`.
+    /// `∫_K (u_h − u)²` and `∫_K (u_h' − u')²` on element `e` by Gauss on its pieces between
+    /// the characteristics `kinks`.
     fn by_quadrature(&self, u: &[f64], e: usize, t: f64, kinks: [f64; 2]) -> (f64, f64) {
         let (s, ex) = (&self.bar.space, &self.bar.exact);
         let h = s.mesh.h();

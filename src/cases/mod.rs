@@ -243,14 +243,14 @@ enum Spec {
     SpringMass(spring_mass::SpringMassSpec),
 }
 
-/// A case file read and parsed once per command: its path, its text (the content key of the
-/// study records) and its spec. [`CaseFile::build`] validates it with overrides, once per run.
+/// A case file read and parsed once per command: its path, the hash of its text (the content
+/// key of the study records) and its spec. [`CaseFile::build`] validates it with overrides, once per run.
 #[derive(Debug, Clone)]
 pub struct CaseFile {
     /// Where it was read (for messages).
     pub path: PathBuf,
-    /// Its text.
-    pub text: String,
+    /// [`crate::util::content_hash`] of its text (the study records' key).
+    pub hash: String,
     spec: Spec,
 }
 
@@ -284,7 +284,7 @@ impl CaseFile {
         };
         Ok(Self {
             path: path.to_path_buf(),
-            text,
+            hash: crate::util::content_hash(text.as_bytes()),
             spec,
         })
     }

@@ -24,6 +24,8 @@ impl Space for Lumped {
     }
 
     fn inertia(&self, model: &MassModel) -> Result<Inertia> {
-        Ok(Inertia::sparse(model.assemble(|el, _| hrz(&el.mass))?))
+        Ok(Inertia::Sparse {
+            m: model.assemble(|el, _| hrz(&el.mass))?,
+        })
     }
 }

@@ -17,12 +17,14 @@ impl Space for MassElimination {
     }
 
     fn inertia(&self, model: &MassModel) -> Result<Inertia> {
-        Ok(Inertia::sparse(model.assemble(|el, _| {
-            if model.touches_contact(el) {
-                DMatrix::zeros(el.mass.nrows(), el.mass.ncols())
-            } else {
-                el.mass.clone()
-            }
-        })?))
+        Ok(Inertia::Sparse {
+            m: model.assemble(|el, _| {
+                if model.touches_contact(el) {
+                    DMatrix::zeros(el.mass.nrows(), el.mass.ncols())
+                } else {
+                    el.mass.clone()
+                }
+            })?,
+        })
     }
 }

@@ -30,16 +30,18 @@ impl Space for MassRedistribution {
     }
 
     fn inertia(&self, model: &MassModel) -> Result<Inertia> {
-        Ok(Inertia::sparse(model.assemble(|el, comp| {
-            let massless: Vec<bool> = (0..el.x.len())
-                .map(|a| model.is_contact(el, comp, a))
-                .collect();
-            if massless.iter().any(|&b| b) {
-                redistribute(&el.mass, &el.x, model.dim, &massless).0
-            } else {
-                el.mass.clone()
-            }
-        })?))
+        Ok(Inertia::Sparse {
+            m: model.assemble(|el, comp| {
+                let massless: Vec<bool> = (0..el.x.len())
+                    .map(|a| model.is_contact(el, comp, a))
+                    .collect();
+                if massless.iter().any(|&b| b) {
+                    redistribute(&el.mass, &el.x, model.dim, &massless).0
+                } else {
+                    el.mass.clone()
+                }
+            })?,
+        })
     }
 }
 

@@ -14,6 +14,8 @@ impl Space for Standard {
     }
 
     fn inertia(&self, model: &MassModel) -> Result<Inertia> {
-        Ok(Inertia::sparse(model.assemble(|el, _| el.mass.clone())?))
+        Ok(Inertia::Sparse {
+            m: model.assemble(|el, _| el.mass.clone())?,
+        })
     }
 }

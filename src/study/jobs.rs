@@ -40,7 +40,7 @@ impl Job {
     pub fn key(&self) -> String {
         format!(
             "{}/{}/{}/{}/{}",
-            crate::util::content_hash(self.file.text.as_bytes()),
+            self.file.hash,
             self.sweep,
             self.space,
             self.choice.label(),

@@ -245,16 +245,16 @@ impl Progress {
 }
 
 /// What the sampling thread evaluates at every sample besides the probe dofs.
-struct Probe<'a> {
+struct Probe {
     /// The probe's row of B_N.
     b_row: Vec<(usize, f64)>,
-    energy: EnergyForm<'a>,
+    energy: EnergyForm,
 }
 
 /// The probe's row of the time series.
 fn probe_row(
     problem: &Problem,
-    probe: &mut Probe<'_>,
+    probe: &mut Probe,
     s: &State<'_>,
     exact: Option<&dyn crate::exact::ExactContact>,
 ) -> Row {

@@ -57,7 +57,7 @@ impl Scheme for CentralDifference {
             linear: LinearSolver::Direct,
             ..contact
         };
-        let Inertia::Sparse { m, .. } = &problem.inertia else {
+        let Inertia::Sparse { m } = &problem.inertia else {
             return Err(Error::Unsupported(
                 "central_difference needs a sparse mass matrix (standard, lumped, \
                  mass_redistribution or mass_elimination), not singular_dynamic"

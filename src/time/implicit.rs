@@ -93,16 +93,17 @@ fn check_stiffness_resolved(
     (m_coef, k_coef): (f64, f64),
 ) -> Result<()> {
     let max_diag = |a: &SpMat| {
-        linalg::triplets(a)
-            .filter(|(i, j, _)| i == j)
-            .fold(0.0_f64, |m, (_, _, v)| m.max(v.abs()))
+        linalg::diagonal(a)
+            .iter()
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
     };
     let mass = match &problem.inertia {
-        crate::problem::Inertia::Sparse { m, .. } => max_diag(m),
+        crate::problem::Inertia::Sparse { m } => max_diag(m),
         crate::problem::Inertia::Mixed { c, .. } => max_diag(c),
     };
-    let (stiff, mass) = (k_coef.abs() * max_diag(k), m_coef.abs() * mass);
-    if stiff > 0.0 && stiff >= f64::EPSILON * mass || max_diag(k) == 0.0 {
+    let k_max = max_diag(k);
+    let (stiff, mass) = (k_coef.abs() * k_max, m_coef.abs() * mass);
+    if stiff > 0.0 && stiff >= f64::EPSILON * mass || k_max == 0.0 {
         return Ok(());
     }
     Err(Error::invalid(

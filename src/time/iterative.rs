@@ -51,7 +51,7 @@ impl IterativeStep {
     /// Assembles `m M + k K`; `c` is the factor of `B_Nᵀ λ` in the step equation. Errors (naming
     /// why) when the mass is not a sparse matrix or `B_N` is not nodal along axes.
     pub fn new(problem: &Problem, k: &SpMat, (m_coef, k_coef): (f64, f64), c: f64) -> Result<Self> {
-        let Inertia::Sparse { m, .. } = &problem.inertia else {
+        let Inertia::Sparse { m } = &problem.inertia else {
             return Err(Error::Unsupported(
                 "linear solver cg: the singular dynamic saddle system is not SPD (use direct)"
                     .into(),
