@@ -55,6 +55,9 @@ pub enum Error {
     /// Writing CSV output failed.
     #[error("csv output {path}: {message}")]
     Csv { path: PathBuf, message: String },
+    /// A mesh (file or generator) is unusable: inverted cell, missing group, unknown element…
+    #[error("{origin}: {message}")]
+    Mesh { origin: String, message: String },
     /// Plotting failed.
     #[error("plot {path}: {message}")]
     Plot { path: PathBuf, message: String },

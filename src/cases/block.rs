@@ -11,14 +11,13 @@ use super::sweep::SweepSpec;
 use super::{Case, FieldError, Overrides, RunSpec};
 use crate::error::{positive, Error, Result};
 use crate::exact::ExactContact;
-use crate::fem::assembly::assemble;
-use crate::fem::elasticity::{element_mass, element_stiffness, mixed_matrices, Lame};
+use crate::fem::discretisation::Discretisation;
+use crate::fem::elasticity::Lame;
 use crate::fem::reference::{RefElement, Shape};
-use crate::linalg::TripletBuilder;
-use crate::mesh::structured::StructuredMesh;
-use crate::problem::{Contact, Inertia, Probe, Problem};
-use crate::space::{ElementMass, ElementMixed, MassModel, Space};
-use rayon::prelude::*;
+use crate::mesh::structured::box_mesh;
+use crate::mesh::{ContactRule, FACING};
+use crate::problem::Problem;
+use crate::space::Space;
 use serde::Deserialize;
 
 /// `[material]`.
@@ -89,12 +88,8 @@ pub struct BlockSpec {
 #[derive(Debug, Clone)]
 pub struct Block {
     kind: &'static str,
-    /// The mesh.
-    pub mesh: StructuredMesh,
-    /// Lamé constants.
-    pub lame: Lame,
-    /// Density.
-    pub density: f64,
+    /// Mesh, material and Γ_C.
+    pub fem: Discretisation,
     /// Geometry and initial state.
     pub geometry: Geometry,
     run: RunSpec,
@@ -188,94 +183,17 @@ impl Block {
         crate::util::check_memory("mesh.elements", n, assembly_bytes(&element, cells))?;
         Ok(Self {
             kind,
-            mesh: StructuredMesh::new(element, cells, size)?,
-            lame: Lame::from_young_poisson(m.young, m.poisson),
-            density: m.density,
+            fem: Discretisation::new(
+                box_mesh(element, cells, size)?,
+                Lame::from_young_poisson(m.young, m.poisson),
+                m.density,
+                ContactRule::Facing(FACING),
+            )?,
             geometry: spec.geometry,
             run,
             sweeps: spec.sweep,
             history: spec.history,
         })
-    }
-
-    fn dim(&self) -> usize {
-        self.mesh.dim()
-    }
-
-    /// Global dofs of cell `c` per component (`node · dim + comp`).
-    fn cell_dofs(&self, c: usize) -> Vec<Vec<Option<usize>>> {
-        let d = self.dim();
-        (0..d)
-            .map(|comp| {
-                self.mesh.connectivity[c]
-                    .iter()
-                    .map(|&i| Some(i * d + comp))
-                    .collect()
-            })
-            .collect()
-    }
-
-    /// Global index of every vertex in the velocity space H_h (degree-1 nodes), or None.
-    fn vertex_index(&self) -> (Vec<Option<usize>>, usize) {
-        let mut count = 0;
-        let index = (0..self.mesh.nodes.len())
-            .map(|i| {
-                self.mesh.is_vertex(i).then(|| {
-                    count += 1;
-                    count - 1
-                })
-            })
-            .collect();
-        (index, count)
-    }
-
-    /// Element data for the spaces (and the velocity space H_h for degree 2).
-    pub fn mass_model(&self) -> MassModel {
-        let (d, mesh) = (self.dim(), &self.mesh);
-        let el = mesh.element;
-        let (vertex, nv) = self.vertex_index();
-        let (lin, map) = el.linear();
-        let mut elements = Vec::with_capacity(mesh.connectivity.len());
-        let mut mixed = Vec::new();
-        for c in 0..mesh.connectivity.len() {
-            let (_, jac) = mesh.jacobian(c);
-            let mass = element_mass(&el, &jac, self.density);
-            elements.push(ElementMass {
-                x: mesh.connectivity[c]
-                    .iter()
-                    .map(|&i| mesh.nodes[i])
-                    .collect(),
-                mass,
-                dofs: self.cell_dofs(c),
-            });
-            if el.degree == 2 {
-                let (cm, bm) = mixed_matrices(&el, &jac, self.density);
-                let verts: Vec<usize> = (0..lin.n_nodes())
-                    .map(|b| vertex[mesh.connectivity[c][map[b]]].expect("a vertex"))
-                    .collect();
-                mixed.push(ElementMixed {
-                    c: cm,
-                    b: bm,
-                    vdofs: (0..d)
-                        .map(|comp| verts.iter().map(|v| v * d + comp).collect())
-                        .collect(),
-                });
-            }
-        }
-        let mut contact_dofs: Vec<usize> = self
-            .mesh
-            .contact_vertices()
-            .iter()
-            .map(|(i, _)| i * d + d - 1)
-            .collect();
-        contact_dofs.sort_unstable();
-        MassModel {
-            n_dofs: mesh.nodes.len() * d,
-            dim: d,
-            elements,
-            contact_dofs,
-            velocity: (el.degree == 2).then_some((mixed, nv * d)),
-        }
     }
 }
 
@@ -285,87 +203,28 @@ impl Case for Block {
     }
 
     fn h(&self) -> f64 {
-        self.mesh.size[0] / self.mesh.cells[0] as f64
+        self.fem.mesh.h
     }
 
     fn problem(&self, space: &dyn Space) -> Result<Problem> {
-        let (d, mesh) = (self.dim(), &self.mesh);
-        let n = mesh.nodes.len() * d;
-        let el = mesh.element;
-        let stiffness: Vec<(Vec<Option<usize>>, nalgebra::DMatrix<f64>)> =
-            (0..mesh.connectivity.len())
-                .into_par_iter()
-                .map(|c| {
-                    let (_, jac) = mesh.jacobian(c);
-                    let k = element_stiffness(&el, &jac, self.lame);
-                    let dofs = mesh.connectivity[c]
-                        .iter()
-                        .flat_map(|&i| (0..d).map(move |comp| Some(i * d + comp)))
-                        .collect();
-                    (dofs, k)
-                })
-                .collect();
-        let k = assemble(
-            n,
-            n,
-            stiffness
-                .iter()
-                .map(|(dofs, k)| (dofs.clone(), dofs.clone(), k)),
-        )?;
-        let model = self.mass_model();
+        let fem = &self.fem;
+        let (d, n) = (fem.dim(), fem.n_dofs());
+        let model = fem.mass_model();
         let inertia = space.inertia(&model)?;
-        // Gravity: F = −g ∫ρ φ_i on the vertical component (consistent load).
-        let mut f = vec![0.0; n];
-        for e in &model.elements {
-            for (a, dof) in e.dofs[d - 1].iter().enumerate() {
-                if let Some(i) = dof {
-                    f[*i] -= self.geometry.gravity * e.mass.row(a).sum();
-                }
-            }
-        }
-        let vertices = mesh.contact_vertices();
-        let mut b_n = TripletBuilder::new(vertices.len(), n);
-        for (r, (i, _)) in vertices.iter().enumerate() {
-            b_n.add(r, i * d + d - 1, -1.0);
-        }
+        let contact = fem.contact(self.geometry.lift)?;
+        let probe = fem.probe(&contact, &inertia)?;
         let mut v0 = vec![0.0; n];
-        for i in 0..mesh.nodes.len() {
-            v0[i * d + d - 1] = self.geometry.velocity;
+        for v in v0.iter_mut().skip(d - 1).step_by(d) {
+            *v = self.geometry.velocity;
         }
-        // Probe: the contact vertex closest to the centre of Γ_C.
-        let centre: Vec<f64> = (0..d - 1).map(|k| 0.5 * mesh.size[k]).collect();
-        let dist = |i: usize| -> f64 {
-            (0..d - 1)
-                .map(|k| (mesh.nodes[i][k] - centre[k]).powi(2))
-                .sum()
-        };
-        let probe = (0..vertices.len())
-            .min_by(|&a, &b| dist(vertices[a].0).total_cmp(&dist(vertices[b].0)))
-            .ok_or_else(|| Error::Unsupported("block: no contact vertex".into()))?;
-        let u_dof = vertices[probe].0 * d + d - 1;
-        let w_dof = match &inertia {
-            Inertia::Sparse { .. } => u_dof,
-            Inertia::Mixed { .. } => {
-                let (vertex, _) = self.vertex_index();
-                vertex[vertices[probe].0].expect("a vertex") * d + d - 1
-            }
-        };
         Ok(Problem {
+            k: fem.stiffness()?,
+            f: fem.gravity_load(&model, self.geometry.gravity),
             inertia,
-            k,
-            f,
-            contact: Contact {
-                b_n: b_n.build()?,
-                g0: vec![self.geometry.lift; vertices.len()],
-                area: vertices.iter().map(|v| v.1).collect(),
-            },
+            contact,
             u0: vec![0.0; n],
             v0,
-            probe: Probe {
-                contact: probe,
-                u_dof,
-                w_dof,
-            },
+            probe,
             energy_shift: 0.0,
         })
     }

@@ -2,7 +2,9 @@
 //! `K_(a,c),(b,d) = ∫ λ ∂_c φ_a ∂_d φ_b + μ ∂_d φ_a ∂_c φ_b + μ δ_cd ∇φ_a·∇φ_b` (plane strain in 2D:
 //! the 3D Lamé constants), scalar element mass `∫ ρ φ_a φ_b`, mixed mass `∫ ρ ψ_i φ_b` with the
 //! degree-1 basis ψ, and the stress `σ = λ tr ε I + 2 μ ε`. Local dof `(a, c)` has index
-//! `a · dim + c`.
+//! `a · dim + c`. The geometry is isoparametric: a cell is given by the coordinates `x` of its
+//! local nodes, `x(ξ) = Σ_a x_a φ_a(ξ)` (curved P2/Q2 cells included); [`crate::mesh::Mesh::check`]
+//! has refused cells whose Jacobian vanishes or changes sign.
 
 use super::reference::RefElement;
 use nalgebra::{DMatrix, Matrix3};
@@ -26,13 +28,28 @@ impl Lame {
     }
 }
 
-/// Physical gradients `J⁻ᵀ ∇̂φ` at a point, and `|det J|`.
-fn physical(el: &RefElement, jac: &Matrix3<f64>, xi: [f64; 3]) -> (Vec<f64>, Vec<[f64; 3]>, f64) {
+/// Jacobian `J = Σ_a x_a ⊗ ∇̂φ_a(ξ)` of the isoparametric map at ξ (columns: images of the
+/// reference axes; the unused block of a 2D cell is the identity).
+pub fn jacobian(el: &RefElement, x: &[[f64; 3]], xi: [f64; 3]) -> Matrix3<f64> {
+    jacobian_from(el, x, &el.eval(xi).1)
+}
+
+fn jacobian_from(el: &RefElement, x: &[[f64; 3]], g: &[[f64; 3]]) -> Matrix3<f64> {
+    let mut j = Matrix3::identity();
+    for k in 0..el.dim {
+        for r in 0..el.dim {
+            j[(r, k)] = x.iter().zip(g).map(|(xa, ga)| xa[r] * ga[k]).sum();
+        }
+    }
+    j
+}
+
+/// Values and physical gradients `J⁻ᵀ ∇̂φ` at a point, and `|det J|`.
+fn physical(el: &RefElement, x: &[[f64; 3]], xi: [f64; 3]) -> (Vec<f64>, Vec<[f64; 3]>, f64) {
     let (v, g) = el.eval(xi);
-    let inv_t = jac
-        .try_inverse()
-        .expect("structured cells are non-degenerate")
-        .transpose();
+    let jac = jacobian_from(el, x, &g);
+    // Checked cells have det J ≠ 0 (Mesh::check); zero gradients rather than a panic otherwise.
+    let inv_t = jac.try_inverse().unwrap_or_else(Matrix3::zeros).transpose();
     let g = g
         .iter()
         .map(|gr| {
@@ -43,12 +60,12 @@ fn physical(el: &RefElement, jac: &Matrix3<f64>, xi: [f64; 3]) -> (Vec<f64>, Vec
     (v, g, jac.determinant().abs())
 }
 
-/// Element stiffness (`dim · n` square) of a cell with Jacobian `jac`.
-pub fn element_stiffness(el: &RefElement, jac: &Matrix3<f64>, lame: Lame) -> DMatrix<f64> {
+/// Element stiffness (`dim · n` square) of the cell with node coordinates `x`.
+pub fn element_stiffness(el: &RefElement, x: &[[f64; 3]], lame: Lame) -> DMatrix<f64> {
     let (n, d) = (el.n_nodes(), el.dim);
     let mut k = DMatrix::zeros(n * d, n * d);
     for (xi, w) in el.quadrature() {
-        let (_, g, det) = physical(el, jac, xi);
+        let (_, g, det) = physical(el, x, xi);
         let wd = w * det;
         for a in 0..n {
             for b in 0..n {
@@ -69,12 +86,12 @@ pub fn element_stiffness(el: &RefElement, jac: &Matrix3<f64>, lame: Lame) -> DMa
 }
 
 /// Scalar element mass `∫ρ φ_a φ_b` (`n` square; the same on every component).
-pub fn element_mass(el: &RefElement, jac: &Matrix3<f64>, rho: f64) -> DMatrix<f64> {
+pub fn element_mass(el: &RefElement, x: &[[f64; 3]], rho: f64) -> DMatrix<f64> {
     let n = el.n_nodes();
     let mut m = DMatrix::zeros(n, n);
-    let det = jac.determinant().abs();
     for (xi, w) in el.quadrature() {
-        let (v, _) = el.eval(xi);
+        let (v, g) = el.eval(xi);
+        let det = jacobian_from(el, x, &g).determinant().abs();
         for a in 0..n {
             for b in 0..n {
                 m[(a, b)] += w * det * rho * v[a] * v[b];
@@ -86,18 +103,14 @@ pub fn element_mass(el: &RefElement, jac: &Matrix3<f64>, rho: f64) -> DMatrix<f6
 
 /// `(C, B)` of the singular dynamic method on one cell: `C_ij = ∫ρ ψ_i ψ_j`, `B_ij = ∫ρ ψ_i φ_j`
 /// with ψ the degree-1 basis of the same shape.
-pub fn mixed_matrices(
-    el: &RefElement,
-    jac: &Matrix3<f64>,
-    rho: f64,
-) -> (DMatrix<f64>, DMatrix<f64>) {
+pub fn mixed_matrices(el: &RefElement, x: &[[f64; 3]], rho: f64) -> (DMatrix<f64>, DMatrix<f64>) {
     let (lin, _) = el.linear();
     let (n, nl) = (el.n_nodes(), lin.n_nodes());
     let mut c = DMatrix::zeros(nl, nl);
     let mut b = DMatrix::zeros(nl, n);
     for (xi, w) in el.quadrature() {
-        let wd = w * jac.determinant().abs() * rho;
-        let (phi, _) = el.eval(xi);
+        let (phi, g) = el.eval(xi);
+        let wd = w * jacobian_from(el, x, &g).determinant().abs() * rho;
         let (psi, _) = lin.eval(xi);
         for i in 0..nl {
             for j in 0..nl {
@@ -114,13 +127,13 @@ pub fn mixed_matrices(
 /// Stress tensor at reference point ξ of a cell from its local displacements `u[a·dim + c]`.
 pub fn stress(
     el: &RefElement,
-    jac: &Matrix3<f64>,
+    x: &[[f64; 3]],
     lame: Lame,
     u: &[f64],
     xi: [f64; 3],
 ) -> Matrix3<f64> {
     let d = el.dim;
-    let (_, g, _) = physical(el, jac, xi);
+    let (_, g, _) = physical(el, x, xi);
     let mut grad = Matrix3::zeros();
     for (a, ga) in g.iter().enumerate() {
         for c in 0..d {

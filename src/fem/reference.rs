@@ -1,5 +1,5 @@
-//! Reference Lagrange elements in 2D and 3D, with affine geometry (the structured meshes have
-//! parallelogram/box cells and straight triangles, so the Jacobian is constant on a cell):
+//! Reference Lagrange elements in 2D and 3D (the geometry is isoparametric: see
+//! [`super::elasticity::jacobian`]):
 //! - tensor elements Q1/Q2 on [0, 1]^d, local nodes in lexicographic order (x fastest) on the
 //!   (p + 1)^d grid of equispaced points;
 //! - simplices P1/P2 (triangles, tetrahedra) on {ξ ≥ 0, Σ ξ_k ≤ 1}: the vertices 0 and e_k, then
@@ -187,6 +187,56 @@ impl RefElement {
                                 out.push(([u, v * a, w * a * b], wu * wv * ww * a * a * b));
                             }
                         }
+                    }
+                }
+                out
+            }
+        }
+    }
+
+    /// Local index of the tensor corner with bits `c` (0 or 1 per direction).
+    fn corner(&self, c: [usize; 3]) -> usize {
+        let (p, q) = (self.degree, self.degree + 1);
+        c[0] * p + q * (c[1] * p + q * c[2] * p)
+    }
+
+    /// Local indices of the cell's vertices (simplex: 0..=d; tensor: corners, x fastest).
+    pub fn vertices(&self) -> Vec<usize> {
+        match self.shape {
+            Shape::Simplex => (0..=self.dim).collect(),
+            Shape::Tensor => (0..1 << self.dim)
+                .map(|b: usize| self.corner([b & 1, (b >> 1) & 1, (b >> 2) & 1]))
+                .collect(),
+        }
+    }
+
+    /// The faces (edges in 2D) as local vertex indices, quadrilaterals in cyclic order.
+    pub fn faces(&self) -> Vec<Vec<usize>> {
+        match (self.shape, self.dim) {
+            (Shape::Simplex, 2) => vec![vec![0, 1], vec![1, 2], vec![2, 0]],
+            (Shape::Simplex, _) => vec![vec![1, 2, 3], vec![0, 2, 3], vec![0, 1, 3], vec![0, 1, 2]],
+            (Shape::Tensor, d) => {
+                let cyc: &[[usize; 2]] = if d == 2 {
+                    &[[0, 0], [1, 0]]
+                } else {
+                    &[[0, 0], [1, 0], [1, 1], [0, 1]]
+                };
+                let mut out = Vec::new();
+                for axis in 0..d {
+                    for side in 0..2 {
+                        let free: Vec<usize> = (0..d).filter(|&k| k != axis).collect();
+                        out.push(
+                            cyc.iter()
+                                .map(|uv| {
+                                    let mut c = [0; 3];
+                                    c[axis] = side;
+                                    for (f, &k) in free.iter().enumerate() {
+                                        c[k] = uv[f];
+                                    }
+                                    self.corner(c)
+                                })
+                                .collect(),
+                        );
                     }
                 }
                 out

@@ -1,0 +1,249 @@
+//! The discretisation of an elastic body against the rigid plane `x_d = 0` (d the last
+//! coordinate, obstacle below): a [`Mesh`], its Lagrange family (degree 1 or 2, isoparametric) and
+//! the dof map `(node i, component c) ↦ i·d + c`. It assembles everything a case needs from any
+//! mesh, structured or not:
+//! - the stiffness `K` of isotropic linear elasticity (plane strain in 2D);
+//! - the [`MassModel`] every space builds its inertia from (element masses, the contact normal
+//!   dofs, and for degree 2 the degree-1 velocity space H_h of the singular dynamic method);
+//! - the contact operator at the vertices of Γ_C: `g = g₀ − B_N U` with `g₀_i = x_{i,d} + lift`
+//!   (signed distance to the plane) and `B_N U = −u_{i,d}` (the displacement along the **plane's**
+//!   outward normal −e_d, whatever the body's normal there);
+//! - the probe: the Γ_C vertex nearest the plane at t = 0 (ties: nearest the centre of Γ_C's
+//!   bounding box).
+
+use crate::error::{Error, Result};
+use crate::fem::assembly::assemble;
+use crate::fem::elasticity::{element_mass, element_stiffness, mixed_matrices, Lame};
+use crate::linalg::{SpMat, TripletBuilder};
+use crate::mesh::{ContactRule, Mesh};
+use crate::problem::{Contact, Inertia, Probe};
+use crate::space::{ElementMass, ElementMixed, MassModel};
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+
+/// Initial penetration refused at t = 0, relative to the mesh size h.
+pub const PENETRATION_TOLERANCE: f64 = 1e-6;
+
+/// A body's mesh with its material and its contact boundary.
+#[derive(Debug, Clone)]
+pub struct Discretisation {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// Lamé constants.
+    pub lame: Lame,
+    /// Density ρ.
+    pub density: f64,
+    /// The vertices of Γ_C (increasing node index) with their tributary length or area.
+    pub contact_vertices: Vec<(usize, f64)>,
+}
+
+impl Discretisation {
+    /// Checks the mesh (no inverted or degenerate cell) and selects Γ_C by `rule`.
+    pub fn new(mesh: Mesh, lame: Lame, density: f64, rule: ContactRule) -> Result<Self> {
+        mesh.check()?;
+        let faces = mesh.contact_faces(rule)?;
+        let contact_vertices = mesh.tributary(&faces);
+        Ok(Self {
+            mesh,
+            lame,
+            density,
+            contact_vertices,
+        })
+    }
+
+    /// Spatial dimension d.
+    pub fn dim(&self) -> usize {
+        self.mesh.dim()
+    }
+
+    /// Number of displacement dofs.
+    pub fn n_dofs(&self) -> usize {
+        self.mesh.nodes.len() * self.dim()
+    }
+
+    /// Global dof of node i, component c.
+    fn dof(&self, i: usize, c: usize) -> usize {
+        i * self.dim() + c
+    }
+
+    /// Global dofs of cell `c` per component.
+    fn cell_dofs(&self, c: usize) -> Vec<Vec<Option<usize>>> {
+        (0..self.dim())
+            .map(|comp| {
+                self.mesh.connectivity[c]
+                    .iter()
+                    .map(|&i| Some(self.dof(i, comp)))
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Index of every vertex in the velocity space H_h (degree-1 nodes, by node order), or None.
+    fn vertex_index(&self) -> (Vec<Option<usize>>, usize) {
+        let mut count = 0;
+        let index = self
+            .mesh
+            .vertex_flags()
+            .into_iter()
+            .map(|v| {
+                v.then(|| {
+                    count += 1;
+                    count - 1
+                })
+            })
+            .collect();
+        (index, count)
+    }
+
+    /// The stiffness `K` (element matrices in parallel, scattered in cell order).
+    pub fn stiffness(&self) -> Result<SpMat> {
+        let (d, mesh) = (self.dim(), &self.mesh);
+        let n = self.n_dofs();
+        let local: Vec<(Vec<Option<usize>>, DMatrix<f64>)> = (0..mesh.connectivity.len())
+            .into_par_iter()
+            .map(|c| {
+                let k = element_stiffness(&mesh.element, &mesh.cell_nodes(c), self.lame);
+                let dofs = mesh.connectivity[c]
+                    .iter()
+                    .flat_map(|&i| (0..d).map(move |comp| Some(i * d + comp)))
+                    .collect();
+                (dofs, k)
+            })
+            .collect();
+        assemble(
+            n,
+            n,
+            local
+                .iter()
+                .map(|(dofs, k)| (dofs.clone(), dofs.clone(), k)),
+        )
+    }
+
+    /// Element data for the spaces (and the velocity space H_h for degree 2).
+    pub fn mass_model(&self) -> MassModel {
+        let (d, mesh) = (self.dim(), &self.mesh);
+        let el = mesh.element;
+        let (vertex, nv) = self.vertex_index();
+        let (_, map) = el.linear();
+        let mut elements = Vec::with_capacity(mesh.connectivity.len());
+        let mut mixed = Vec::new();
+        for (c, cell) in mesh.connectivity.iter().enumerate() {
+            let x = mesh.cell_nodes(c);
+            elements.push(ElementMass {
+                mass: element_mass(&el, &x, self.density),
+                x: x.clone(),
+                dofs: self.cell_dofs(c),
+            });
+            if el.degree == 2 {
+                let (cm, bm) = mixed_matrices(&el, &x, self.density);
+                // Every local vertex is a mesh vertex by construction of `vertex_flags`.
+                let verts: Vec<usize> = map.iter().filter_map(|&a| vertex[cell[a]]).collect();
+                mixed.push(ElementMixed {
+                    c: cm,
+                    b: bm,
+                    vdofs: (0..d)
+                        .map(|comp| verts.iter().map(|v| v * d + comp).collect())
+                        .collect(),
+                });
+            }
+        }
+        let mut contact_dofs: Vec<usize> = self
+            .contact_vertices
+            .iter()
+            .map(|&(i, _)| self.dof(i, d - 1))
+            .collect();
+        contact_dofs.sort_unstable();
+        MassModel {
+            n_dofs: self.n_dofs(),
+            dim: d,
+            elements,
+            contact_dofs,
+            velocity: (el.degree == 2).then_some((mixed, nv * d)),
+        }
+    }
+
+    /// The consistent body force `F_i = −g ∫ρ φ_i` on the last component (gravity g ≥ 0).
+    pub fn gravity_load(&self, model: &MassModel, gravity: f64) -> Vec<f64> {
+        let d = self.dim();
+        let mut f = vec![0.0; self.n_dofs()];
+        for e in &model.elements {
+            for (a, dof) in e.dofs[d - 1].iter().enumerate() {
+                if let Some(i) = dof {
+                    f[*i] -= gravity * e.mass.row(a).sum();
+                }
+            }
+        }
+        f
+    }
+
+    /// The contact operator with the body lifted by `lift` above the plane: refuses an initial
+    /// penetration deeper than [`PENETRATION_TOLERANCE`] · h, naming the vertex.
+    pub fn contact(&self, lift: f64) -> Result<Contact> {
+        let d = self.dim();
+        let n = self.n_dofs();
+        let mut b_n = TripletBuilder::new(self.contact_vertices.len(), n);
+        let mut g0 = Vec::with_capacity(self.contact_vertices.len());
+        for (r, &(i, _)) in self.contact_vertices.iter().enumerate() {
+            b_n.add(r, self.dof(i, d - 1), -1.0);
+            let g = self.mesh.nodes[i][d - 1] + lift;
+            if g < -PENETRATION_TOLERANCE * self.mesh.h {
+                return Err(Error::Mesh {
+                    origin: self.mesh.origin.clone(),
+                    message: format!(
+                        "node {i} at {:?} penetrates the plane x_{} = 0 by {:.3e} at t = 0 \
+                         (lift {lift})",
+                        self.mesh.nodes[i], d, -g
+                    ),
+                });
+            }
+            g0.push(g);
+        }
+        Ok(Contact {
+            b_n: b_n.build()?,
+            g0,
+            area: self.contact_vertices.iter().map(|v| v.1).collect(),
+        })
+    }
+
+    /// The probe: the Γ_C vertex nearest the plane at t = 0, ties (within 1e-9 h) broken by the
+    /// distance to the centre of Γ_C's bounding box, then by the lowest index.
+    pub fn probe(&self, contact: &Contact, inertia: &Inertia) -> Result<Probe> {
+        let (d, x) = (self.dim(), &self.mesh.nodes);
+        let verts = &self.contact_vertices;
+        let centre: Vec<f64> = (0..d - 1)
+            .map(|k| {
+                let (lo, hi) = verts
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |m, v| {
+                        (m.0.min(x[v.0][k]), m.1.max(x[v.0][k]))
+                    });
+                0.5 * (lo + hi)
+            })
+            .collect();
+        let dist = |r: usize| -> f64 {
+            (0..d - 1)
+                .map(|k| (x[verts[r].0][k] - centre[k]).powi(2))
+                .sum()
+        };
+        let lowest = contact.g0.iter().copied().fold(f64::INFINITY, f64::min);
+        let tie = 1e-9 * self.mesh.h;
+        let probe = (0..verts.len())
+            .filter(|&r| contact.g0[r] <= lowest + tie)
+            .min_by(|&a, &b| dist(a).total_cmp(&dist(b)))
+            .ok_or_else(|| Error::Unsupported("no contact vertex".into()))?;
+        let node = verts[probe].0;
+        let u_dof = self.dof(node, d - 1);
+        let w_dof = match inertia {
+            Inertia::Sparse { .. } => u_dof,
+            Inertia::Mixed { .. } => {
+                let (vertex, _) = self.vertex_index();
+                vertex[node].map_or(u_dof, |v| v * d + d - 1)
+            }
+        };
+        Ok(Probe {
+            contact: probe,
+            u_dof,
+            w_dof,
+        })
+    }
+}
