@@ -115,6 +115,10 @@ enum Command {
         /// Number of elements.
         #[arg(long)]
         elements: Option<usize>,
+        /// A Gmsh mesh (MSH 4.1) replacing the case's mesh (2D/3D body cases; Γ_C is the
+        /// physical group `contact`, or the case's `[contact] group`).
+        #[arg(long)]
+        mesh: Option<PathBuf>,
         /// Time step.
         #[arg(long, allow_negative_numbers = true)]
         dt: Option<f64>,
@@ -261,6 +265,7 @@ fn main_result(cli: Cli) -> Result<()> {
             linear_solver,
             degree,
             elements,
+            mesh,
             dt,
             t_end,
             out,
@@ -278,6 +283,7 @@ fn main_result(cli: Cli) -> Result<()> {
                 linear_solver,
                 degree,
                 elements,
+                mesh,
                 dt,
                 t_end,
             };

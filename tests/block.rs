@@ -2,7 +2,7 @@
 //! mass of every space, the singular dynamic inf-sup condition, and the seed paper's claims.
 //! Run with `-- --nocapture` to see the measured numbers quoted in the doc comments.
 
-use dyncontact::cases::block::{Block, BlockSpec};
+use dyncontact::cases::body::{Body, BodySpec};
 use dyncontact::cases::{spec_from_str, Case, Overrides};
 use dyncontact::fem::elasticity::stress;
 use dyncontact::fem::reference::Shape;
@@ -26,14 +26,14 @@ const ELEMENTS: [(&str, &str, usize); 8] = [
     ("cases/block3d.toml", "tet", 2),
 ];
 
-fn block(file: &str, cells: &str, o: Overrides) -> Block {
+fn block(file: &str, cells: &str, o: Overrides) -> Body {
     let path = Path::new(file);
-    let mut spec: BlockSpec = spec_from_str(&std::fs::read_to_string(path).unwrap(), path).unwrap();
+    let mut spec: BodySpec = spec_from_str(&std::fs::read_to_string(path).unwrap(), path).unwrap();
     spec.mesh.cells = cells.into();
-    Block::from_spec(spec, &o).unwrap()
+    Body::from_spec(spec, &o).unwrap()
 }
 
-fn small(file: &str, cells: &str, degree: usize) -> Block {
+fn small(file: &str, cells: &str, degree: usize) -> Body {
     let o = Overrides {
         degree: Some(degree),
         elements: Some(2),
@@ -42,12 +42,12 @@ fn small(file: &str, cells: &str, degree: usize) -> Block {
     block(file, cells, o)
 }
 
-fn problem(b: &Block, space: &str) -> Problem {
+fn problem(b: &Body, space: &str) -> Problem {
     b.problem(by_name(space).unwrap().as_ref()).unwrap()
 }
 
 /// Nodal field `u(x)` as a dof vector (`node · dim + comp`).
-fn field(b: &Block, u: impl Fn([f64; 3]) -> [f64; 3]) -> Vec<f64> {
+fn field(b: &Body, u: impl Fn([f64; 3]) -> [f64; 3]) -> Vec<f64> {
     let d = b.fem.mesh.dim();
     b.fem
         .mesh

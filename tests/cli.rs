@@ -230,7 +230,7 @@ fn run_writes_the_documented_outputs() {
     );
 }
 
-/// Block case files: out-of-range material, wrong geometry or cell type name the field.
+/// Body case files: out-of-range material, wrong geometry or cell type name the field.
 #[test]
 fn bad_block_case_files_give_errors_naming_the_field() {
     let dir = tempfile::tempdir().unwrap();

@@ -6,7 +6,7 @@
 //! (see `cases/bar1d.toml`, `cases/spring_mass.toml`).
 
 pub mod bar1d;
-pub mod block;
+pub mod body;
 pub mod spring_mass;
 pub mod sweep;
 
@@ -195,6 +195,8 @@ pub struct Overrides {
     pub degree: Option<usize>,
     /// `--elements`.
     pub elements: Option<usize>,
+    /// `--mesh`: a Gmsh file replacing the case's mesh.
+    pub mesh: Option<PathBuf>,
     /// `--dt`.
     pub dt: Option<f64>,
     /// `--t-end`.
@@ -228,7 +230,15 @@ impl Overrides {
 }
 
 /// Case kinds known to [`load`].
-pub const CASES: &[&str] = &["bar1d", "spring_mass", "block2d", "block3d"];
+pub const CASES: &[&str] = &[
+    "bar1d",
+    "spring_mass",
+    "block2d",
+    "block3d",
+    "hertz2d",
+    "hertz3d",
+    "disc2d",
+];
 
 #[derive(Deserialize)]
 struct Header {
@@ -239,7 +249,7 @@ struct Header {
 #[derive(Debug, Clone)]
 enum Spec {
     Bar1d(bar1d::Bar1dSpec),
-    Block(block::BlockSpec),
+    Body(body::BodySpec),
     SpringMass(spring_mass::SpringMassSpec),
 }
 
@@ -272,7 +282,14 @@ impl CaseFile {
             })?;
         let spec = match header.case.as_str() {
             "bar1d" => Spec::Bar1d(spec_from_str(&text, path)?),
-            "block2d" | "block3d" => Spec::Block(spec_from_str(&text, path)?),
+            "block2d" | "block3d" | "hertz2d" | "hertz3d" | "disc2d" => {
+                let mut spec: body::BodySpec = spec_from_str(&text, path)?;
+                // A mesh file is relative to the case file's directory.
+                if let (Some(f), Some(dir)) = (&spec.mesh.file, path.parent()) {
+                    spec.mesh.file = Some(dir.join(f));
+                }
+                Spec::Body(spec)
+            }
             "spring_mass" => Spec::SpringMass(spec_from_str(&text, path)?),
             other => {
                 return Err(Error::UnknownName {
@@ -291,9 +308,16 @@ impl CaseFile {
 
     /// The validated case with `overrides` applied.
     pub fn build(&self, overrides: &Overrides) -> Result<Box<dyn Case>> {
+        if let (Some(m), false) = (&overrides.mesh, matches!(self.spec, Spec::Body(_))) {
+            return Err(Error::invalid(
+                "--mesh",
+                m,
+                "a mesh file applies to the 2D/3D body cases only",
+            ));
+        }
         Ok(match &self.spec {
             Spec::Bar1d(s) => Box::new(bar1d::Bar1d::from_spec(s.clone(), overrides)?),
-            Spec::Block(s) => Box::new(block::Block::from_spec(s.clone(), overrides)?),
+            Spec::Body(s) => Box::new(body::Body::from_spec(s.clone(), overrides)?),
             Spec::SpringMass(s) => Box::new(spring_mass::SpringMassCase::from_spec(
                 s.clone(),
                 overrides,

@@ -201,6 +201,7 @@ fn combination(
         linear_solver: None,
         degree: degree.get(space).copied(),
         elements: level.elements,
+        mesh: None,
         dt: Some(level.dt),
         t_end,
     }

@@ -1,6 +1,7 @@
 //! Exact solutions the discrete runs are compared with.
 
 pub mod bar_impact;
+pub mod hertz;
 pub mod spring_mass;
 
 /// Exact values at the contact point at time t.

@@ -2,6 +2,8 @@
 //! structured boxes ([`structured`]), the curved bodies of the Hertz cases ([`curved`]) and Gmsh
 //! files ([`gmsh`]) all end up as one unstructured mesh of a single element family.
 
+pub mod curved;
+pub mod gmsh;
 pub mod interval;
 pub mod structured;
 

@@ -1,0 +1,421 @@
+//! An elastic body dropped on the rigid plane `x_d = 0` (obstacle below, d the last coordinate):
+//! - `block2d` / `block3d`: a box, the seed paper's 2D experiment (plane strain) and its 3D version
+//!   (`shared/reference/block_drop.md`); no exact solution, the convergence reference is a run on
+//!   a finer mesh and time step (see the report);
+//! - `hertz3d` / `hertz2d`: a sphere / a disc (plane strain) touching the plane at t = 0, checked
+//!   against Hertz theory ([`crate::exact::hertz`], `shared/reference/hertz_impact.md`);
+//! - `disc2d`: GetFEM's demo disc falling under gravity.
+//!
+//! The case holds only physics: material, geometry (or a Gmsh file), initial state, the obstacle;
+//! [`Discretisation`] turns it into matrices. Isotropic linear elasticity, no Dirichlet condition.
+//! Contact with the plane at the vertices of Γ_C (normal dofs only, frictionless): `B_N U = −u_d`
+//! and `g = x_d + lift + u_d ≥ 0` at each vertex. Initial state: undeformed, uniform vertical
+//! velocity; optional gravity.
+
+use super::sweep::SweepSpec;
+use super::{Case, FieldError, Overrides, RunSpec};
+use crate::error::{positive, Error, Result};
+use crate::exact::hertz::Hertz;
+use crate::exact::ExactContact;
+use crate::fem::discretisation::Discretisation;
+use crate::fem::elasticity::Lame;
+use crate::fem::reference::{RefElement, Shape};
+use crate::mesh::structured::box_mesh;
+use crate::mesh::{ContactRule, Mesh, FACING};
+use crate::problem::Problem;
+use crate::space::Space;
+use serde::Deserialize;
+use std::path::PathBuf;
+
+/// `[material]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Young's modulus E.
+    pub young: f64,
+    /// Poisson's ratio ν ∈ (−1, ½).
+    pub poisson: f64,
+    /// Density ρ.
+    pub density: f64,
+}
+
+/// `[geometry]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Geometry {
+    /// `box` (default), `disc` (2D) or `sphere` (3D); ignored when `[mesh] file` is given.
+    #[serde(default = "default_shape")]
+    pub shape: String,
+    /// Box size (2 or 3 entries; `box` only), the body in `[0, size_k]`.
+    #[serde(default)]
+    pub size: Vec<f64>,
+    /// Radius R (`disc`, `sphere`; with a file, the radius Hertz theory uses), the body centred
+    /// at `(0, …, R)` so that it touches the plane at the origin.
+    #[serde(default)]
+    pub radius: Option<f64>,
+    /// Initial vertical velocity (negative: towards the plane).
+    pub velocity: f64,
+    /// Initial gap between Γ_C and the plane (≥ 0).
+    #[serde(default)]
+    pub lift: f64,
+    /// Gravity acceleration g ≥ 0 (body force −ρ g e_d).
+    #[serde(default)]
+    pub gravity: f64,
+}
+
+/// `[mesh]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSpec {
+    /// `quad` or `triangle` (2D), `hex` or `tet` (3D) for generated meshes.
+    #[serde(default)]
+    pub cells: String,
+    /// Polynomial degree (1 or 2) for generated meshes.
+    #[serde(default = "default_degree")]
+    pub degree: usize,
+    /// Box: cells along the first direction (the others in proportion to the size). Disc and
+    /// sphere: cells along each edge of the O-grid's inner square/cube.
+    #[serde(default)]
+    pub elements: usize,
+    /// Disc and sphere: grading ratio ≥ 1 towards the pole (largest over smallest spacing).
+    #[serde(default = "default_grading")]
+    pub grading: f64,
+    /// A Gmsh mesh (MSH 4.1, ASCII or binary), relative to the case file's directory.
+    #[serde(default)]
+    pub file: Option<PathBuf>,
+}
+
+/// `[contact]`: which boundary faces form Γ_C.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// Gmsh physical group of the contact faces (default `contact`).
+    #[serde(default)]
+    pub group: Option<String>,
+    /// Generated meshes: faces whose outward normal has `n_d < −facing` (default 0.01).
+    #[serde(default)]
+    pub facing: Option<f64>,
+}
+
+fn default_shape() -> String {
+    "box".into()
+}
+fn default_degree() -> usize {
+    1
+}
+fn default_grading() -> f64 {
+    1.0
+}
+
+/// Case kinds of this module with their dimension.
+pub const KINDS: &[(&str, usize)] = &[
+    ("block2d", 2),
+    ("block3d", 3),
+    ("hertz2d", 2),
+    ("hertz3d", 3),
+    ("disc2d", 2),
+];
+
+/// The whole case file of an elastic body.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// One of [`KINDS`].
+    pub case: String,
+    /// Units statement.
+    pub units: String,
+    /// Material.
+    pub material: Material,
+    /// Geometry and initial state.
+    pub geometry: Geometry,
+    /// Mesh.
+    pub mesh: MeshSpec,
+    /// Γ_C selection.
+    #[serde(default)]
+    pub contact: ContactSpec,
+    /// Run defaults.
+    pub run: RunSpec,
+    /// Sweeps.
+    #[serde(default)]
+    pub sweep: Vec<SweepSpec>,
+    /// Time histories for the report.
+    #[serde(default)]
+    pub history: Vec<super::sweep::HistorySpec>,
+}
+
+/// A validated body case.
+#[derive(Debug, Clone)]
+pub struct Body {
+    kind: &'static str,
+    /// Mesh, material and Γ_C.
+    pub fem: Discretisation,
+    /// The Hertz reference (`hertz2d`, `hertz3d`).
+    pub hertz: Option<Hertz>,
+    /// Geometry and initial state.
+    pub geometry: Geometry,
+    run: RunSpec,
+    sweeps: Vec<SweepSpec>,
+    /// Time histories for the report.
+    pub history: Vec<super::sweep::HistorySpec>,
+}
+
+/// Estimated bytes of the assembly: the triplets of one global matrix (24 B per entry of every
+/// element matrix), then K, M and the step matrix compressed (16 B per stored entry, a node
+/// coupling to the (2p + 1)^d nodes around it).
+fn assembly_bytes(element: &RefElement, cells: f64, nodes: f64) -> f64 {
+    let (d, p) = (element.dim, element.degree);
+    let local = (element.n_nodes() * d) as f64;
+    let coupled = ((2 * p + 1) as f64).powi(d as i32) * (d * d) as f64;
+    cells * local * local * 24.0 + 3.0 * nodes * coupled * 16.0
+}
+
+/// Cells per structured cell (simplices split each box cell).
+fn per_cell(element: &RefElement) -> f64 {
+    match (element.shape, element.dim) {
+        (Shape::Tensor, _) => 1.0,
+        (_, 2) => 2.0,
+        _ => 6.0,
+    }
+}
+
+fn check_material(m: &Material) -> Result<()> {
+    positive("material.young", m.young)?;
+    positive("material.density", m.density)?;
+    if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
+        return Err(Error::invalid(
+            "material.poisson",
+            m.poisson,
+            "must be in (−1, ½)",
+        ));
+    }
+    Ok(())
+}
+
+/// The reference element of a generated mesh (`[mesh] cells`, degree).
+fn generated_element(spec: &MeshSpec, dim: usize, degree: usize) -> Result<RefElement> {
+    let shape = match (spec.cells.as_str(), dim) {
+        ("quad", 2) | ("hex", 3) => Shape::Tensor,
+        ("triangle", 2) | ("tet", 3) => Shape::Simplex,
+        (c, _) => {
+            return Err(Error::invalid(
+                "mesh.cells",
+                c,
+                if dim == 2 {
+                    "quad or triangle"
+                } else {
+                    "hex or tet"
+                },
+            ))
+        }
+    };
+    if !(1..=2).contains(&degree) {
+        return Err(Error::invalid("mesh.degree", degree, "must be 1 or 2"));
+    }
+    Ok(RefElement { shape, dim, degree })
+}
+
+/// The mesh the spec describes (a file when given, else the generated shape) and the rule that
+/// selects Γ_C on it.
+fn build_mesh(
+    spec: &BodySpec,
+    o: &Overrides,
+    kind: &str,
+    dim: usize,
+) -> Result<(Mesh, ContactRule)> {
+    let g = &spec.geometry;
+    let facing = match spec.contact.facing {
+        Some(t) => crate::error::in_range("contact.facing", t, 0.0, 1.0)?,
+        None => FACING,
+    };
+    if let Some(file) = o.mesh.as_ref().or(spec.mesh.file.as_ref()) {
+        let group = spec.contact.group.as_deref().unwrap_or("contact");
+        let mesh = crate::mesh::gmsh::read(file, dim, group)?;
+        return Ok((mesh, ContactRule::Tagged));
+    }
+    let degree = o.degree.unwrap_or(spec.mesh.degree);
+    let element = generated_element(&spec.mesh, dim, degree)?;
+    let n = o.elements.unwrap_or(spec.mesh.elements);
+    if n == 0 {
+        return Err(Error::invalid("mesh.elements", n, "must be ≥ 1"));
+    }
+    let mesh = match g.shape.as_str() {
+        "box" => {
+            if g.size.len() != dim {
+                return Err(Error::invalid(
+                    "geometry.size",
+                    &g.size,
+                    &format!("needs {dim} entries for {kind}"),
+                ));
+            }
+            for s in &g.size {
+                positive("geometry.size", *s)?;
+            }
+            let mut cells = [1; 3];
+            let mut size = [0.0; 3];
+            for k in 0..dim {
+                size[k] = g.size[k];
+                cells[k] = ((n as f64 * g.size[k] / g.size[0]).round() as usize).max(1);
+            }
+            let count =
+                |f: &dyn Fn(usize) -> f64| cells[..dim].iter().map(|&c| f(c)).product::<f64>();
+            let bytes = assembly_bytes(
+                &element,
+                count(&|c| c as f64) * per_cell(&element),
+                count(&|c| (degree * c + 1) as f64),
+            );
+            crate::util::check_memory("mesh.elements", n, bytes)?;
+            box_mesh(element, cells, size)?
+        }
+        "disc" | "sphere" => {
+            let want = if dim == 2 { "disc" } else { "sphere" };
+            if g.shape != want {
+                return Err(Error::invalid(
+                    "geometry.shape",
+                    &g.shape,
+                    &format!("{kind} needs `{want}`"),
+                ));
+            }
+            let radius = g.radius.ok_or_else(|| {
+                Error::invalid(
+                    "geometry.radius",
+                    "missing",
+                    "a disc or sphere needs a radius",
+                )
+            })?;
+            let nf = n as f64;
+            let cells = nf.powi(dim as i32) * (1.0 + dim as f64) * per_cell(&element);
+            let nodes = ((degree * n + 1) as f64).powi(dim as i32) * (1.0 + dim as f64);
+            crate::util::check_memory("mesh.elements", n, assembly_bytes(&element, cells, nodes))?;
+            crate::mesh::curved::round_body(element, n, radius, spec.mesh.grading)?
+        }
+        other => {
+            return Err(Error::invalid(
+                "geometry.shape",
+                other,
+                "box, disc (2D) or sphere (3D)",
+            ))
+        }
+    };
+    Ok((mesh, ContactRule::Facing(facing)))
+}
+
+impl Body {
+    /// Validates the spec, applies the overrides and builds the mesh.
+    pub fn from_spec(spec: BodySpec, o: &Overrides) -> Result<Self> {
+        let Some(&(kind, dim)) = KINDS.iter().find(|k| k.0 == spec.case) else {
+            return Err(Error::UnknownName {
+                kind: "case",
+                name: spec.case.clone(),
+                known: KINDS.iter().map(|k| k.0).collect::<Vec<_>>().join(", "),
+            });
+        };
+        let m = &spec.material;
+        check_material(m)?;
+        let g = &spec.geometry;
+        crate::error::finite("geometry.velocity", g.velocity)?;
+        crate::error::non_negative("geometry.lift", g.lift)?;
+        crate::error::non_negative("geometry.gravity", g.gravity)?;
+        let (mesh, rule) = build_mesh(&spec, o, kind, dim)?;
+        let hertz = if kind.starts_with("hertz") {
+            let radius = g.radius.ok_or_else(|| {
+                Error::invalid(
+                    "geometry.radius",
+                    "missing",
+                    "Hertz theory needs the radius",
+                )
+            })?;
+            positive("geometry.radius", radius)?;
+            if g.velocity >= 0.0 || g.gravity != 0.0 {
+                return Err(Error::invalid(
+                    "geometry.velocity",
+                    g.velocity,
+                    "a Hertz impact needs a velocity towards the plane (< 0) and no gravity",
+                ));
+            }
+            Some(Hertz::new(
+                dim,
+                radius,
+                m.density,
+                m.young,
+                m.poisson,
+                -g.velocity,
+            ))
+        } else {
+            None
+        };
+        let mut run = spec.run;
+        o.apply(&mut run);
+        run.validate()?;
+        Ok(Self {
+            kind,
+            fem: Discretisation::new(
+                mesh,
+                Lame::from_young_poisson(m.young, m.poisson),
+                m.density,
+                rule,
+            )?,
+            hertz,
+            geometry: spec.geometry,
+            run,
+            sweeps: spec.sweep,
+            history: spec.history,
+        })
+    }
+}
+
+impl Case for Body {
+    fn kind(&self) -> &'static str {
+        self.kind
+    }
+
+    fn h(&self) -> f64 {
+        self.fem.mesh.h
+    }
+
+    fn problem(&self, space: &dyn Space) -> Result<Problem> {
+        let fem = &self.fem;
+        let (d, n) = (fem.dim(), fem.n_dofs());
+        let model = fem.mass_model();
+        let inertia = space.inertia(&model)?;
+        let contact = fem.contact(self.geometry.lift)?;
+        let probe = fem.probe(&contact, &inertia)?;
+        let mut v0 = vec![0.0; n];
+        for v in v0.iter_mut().skip(d - 1).step_by(d) {
+            *v = self.geometry.velocity;
+        }
+        Ok(Problem {
+            k: fem.stiffness()?,
+            f: fem.gravity_load(&model, self.geometry.gravity),
+            inertia,
+            contact,
+            u0: vec![0.0; n],
+            v0,
+            probe,
+            energy_shift: 0.0,
+        })
+    }
+
+    fn exact(&self) -> Option<&dyn ExactContact> {
+        None
+    }
+
+    fn field_error(&self) -> Option<Box<dyn FieldError + '_>> {
+        None
+    }
+
+    fn stress_is_function(&self) -> bool {
+        true
+    }
+
+    fn run(&self) -> &RunSpec {
+        &self.run
+    }
+
+    fn sweeps(&self) -> &[SweepSpec] {
+        &self.sweeps
+    }
+
+    fn histories(&self) -> &[super::sweep::HistorySpec] {
+        &self.history
+    }
+}

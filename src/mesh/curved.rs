@@ -1,0 +1,239 @@
+//! The canonical curved bodies of the Hertz cases: a disc (2D, an O-grid of quadrilaterals or
+//! triangles) and a ball (3D, a cubed sphere of hexahedra or tetrahedra), of radius R, touching
+//! the plane `x_d = 0` at their pole `(0, …, 0)` with centre `(0, …, R)`.
+//!
+//! Built as an O-grid of the cube `[−1, 1]^d` (so that no cell has two faces on the curved
+//! boundary): an inner cube `[−½, ½]^d` of n cells per direction and, on each of its 2d faces, a
+//! shell block of n^{d−1} × ⌈n/2⌉ cells whose points are `c = (½ + ½ρ) P`, P on the face of the
+//! unit cube, ρ ∈ [0, 1] (structured blocks, P2/Q2 nodes included, merged where they meet). The
+//! cube is then mapped by two continuous maps:
+//! 1. a grading `q = G(p)` that refines towards the pole `(0, …, 0, −1)`: `q_k = s(p_k)` for the
+//!    tangential coordinates with `s(x) = sinh(βx)/sinh β`, and `q_d = 2 s((p_d + 1)/2) − 1` for the
+//!    vertical one, `cosh β = r` the grading ratio (largest over smallest spacing; r = 1: uniform);
+//! 2. the cube-to-ball map `X = q ((1 − t) + t²/‖q‖₂)`, `t = ‖q‖_∞`: the identity at the centre,
+//!    the radial projection `q/‖q‖₂` on the boundary, monotone along every ray.
+//!
+//! Every node, P2/Q2 midpoints included, is mapped, so the boundary nodes lie on the circle or
+//! sphere (isoparametric curved cells). The pole spacing is `h = R (2/n) β / sinh β`.
+
+use super::structured::box_mesh;
+use super::Mesh;
+use crate::error::{Error, Result};
+use crate::fem::reference::RefElement;
+
+/// The grading map `s` on [−1, 1] with ratio `r` (`s(x) = sinh(βx)/sinh β`, `cosh β = r`), and
+/// its slope at 0.
+fn grading(r: f64) -> (impl Fn(f64) -> f64, f64) {
+    let beta = r.acosh();
+    let slope = if beta > 1e-8 { beta / beta.sinh() } else { 1.0 };
+    let s = move |x: f64| {
+        if beta > 1e-8 {
+            (beta * x).sinh() / beta.sinh()
+        } else {
+            x
+        }
+    };
+    (s, slope)
+}
+
+/// The cube-to-ball map `q ((1 − t) + t²/‖q‖₂)`, `t = ‖q‖_∞`.
+fn ball(q: [f64; 3]) -> [f64; 3] {
+    let t = q.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let r = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if r == 0.0 {
+        return q;
+    }
+    let f = (1.0 - t) + t * t / r;
+    q.map(|v| v * f)
+}
+
+/// Half-width of the inner cube of the O-grid.
+const INNER: f64 = 0.5;
+
+/// The O-grid of `[−1, 1]^d`: nodes (merged where blocks meet) and connectivity.
+fn o_grid(element: RefElement, n: usize) -> Result<(Vec<[f64; 3]>, Vec<Vec<usize>>)> {
+    let d = element.dim;
+    let layers = n.div_ceil(2);
+    let mut blocks: Vec<(Vec<[f64; 3]>, Vec<Vec<usize>>)> = Vec::new();
+    let inner = box_mesh(element, [n; 3], [2.0 * INNER; 3])?;
+    let shift = |x: [f64; 3]| std::array::from_fn(|k| if k < d { x[k] - INNER } else { 0.0 });
+    blocks.push((
+        inner.nodes.iter().map(|&x| shift(x)).collect(),
+        inner.connectivity,
+    ));
+    let mut cells = [n; 3];
+    cells[d - 1] = layers;
+    let mut size = [2.0; 3];
+    size[d - 1] = 1.0;
+    let shell = box_mesh(element, cells, size)?;
+    for axis in 0..d {
+        for side in [-1.0, 1.0] {
+            let nodes = shell
+                .nodes
+                .iter()
+                .map(|x| {
+                    let rho = x[d - 1];
+                    let mut t = (0..d - 1).map(|k| x[k] - 1.0);
+                    let p: [f64; 3] = std::array::from_fn(|j| match j {
+                        _ if j >= d => 0.0,
+                        _ if j == axis => side,
+                        _ => t.next().unwrap_or(0.0),
+                    });
+                    p.map(|v| v * (INNER + (1.0 - INNER) * rho))
+                })
+                .collect();
+            blocks.push((nodes, shell.connectivity.clone()));
+        }
+    }
+    // Merge coincident nodes (blocks share faces node for node).
+    let key = |x: &[f64; 3]| x.map(|v| (v * 1e9).round() as i64);
+    let mut index = std::collections::HashMap::new();
+    let (mut nodes, mut connectivity) = (Vec::new(), Vec::new());
+    for (bn, bc) in blocks {
+        let ids: Vec<usize> = bn
+            .iter()
+            .map(|x| {
+                *index.entry(key(x)).or_insert_with(|| {
+                    nodes.push(*x);
+                    nodes.len() - 1
+                })
+            })
+            .collect();
+        connectivity.extend(
+            bc.into_iter()
+                .map(|c| c.into_iter().map(|a| ids[a]).collect::<Vec<_>>()),
+        );
+    }
+    Ok((nodes, connectivity))
+}
+
+/// The disc (`element.dim == 2`) or ball (3) of radius `radius` with `n` cells along each edge
+/// of the O-grid's inner cube and grading ratio `grading_ratio ≥ 1` towards the pole.
+pub fn round_body(element: RefElement, n: usize, radius: f64, grading_ratio: f64) -> Result<Mesh> {
+    if n == 0 {
+        return Err(Error::invalid("mesh.elements", n, "must be ≥ 1"));
+    }
+    crate::error::positive("geometry.radius", radius)?;
+    if !(grading_ratio.is_finite() && grading_ratio >= 1.0) {
+        return Err(Error::invalid(
+            "mesh.grading",
+            grading_ratio,
+            "must be finite and ≥ 1 (largest over smallest spacing)",
+        ));
+    }
+    let d = element.dim;
+    let (mut nodes, connectivity) = o_grid(element, n)?;
+    let (s, slope) = grading(grading_ratio);
+    for x in &mut nodes {
+        let mut q = [0.0; 3];
+        for k in 0..d {
+            let p = x[k];
+            q[k] = if k + 1 < d {
+                s(p)
+            } else {
+                2.0 * s(0.5 * (p + 1.0)) - 1.0
+            };
+        }
+        let b = ball(q);
+        *x = std::array::from_fn(|k| {
+            if k + 1 < d {
+                radius * b[k]
+            } else if k + 1 == d {
+                radius * (b[k] + 1.0)
+            } else {
+                0.0
+            }
+        });
+    }
+    Ok(Mesh {
+        origin: format!(
+            "{} generator (n = {n}, grading {grading_ratio})",
+            if d == 2 { "disc" } else { "sphere" }
+        ),
+        element,
+        nodes,
+        connectivity,
+        h: radius * 2.0 / n as f64 * slope,
+        contact_faces: None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::reference::Shape;
+    use crate::mesh::{ContactRule, FACING};
+
+    /// Every family: valid cells, the volume of the disc/ball (P1: inscribed polygon, O(h²);
+    /// P2/Q2: curved cells, O(h³) and better), boundary nodes on the circle/sphere, the pole a
+    /// Γ_C vertex at distance 0 from the plane, and the pole spacing h as stated.
+    #[test]
+    fn disc_and_ball_have_the_right_volume_and_a_pole_on_the_plane() {
+        for dim in [2, 3] {
+            for shape in [Shape::Tensor, Shape::Simplex] {
+                for degree in [1, 2] {
+                    let e = RefElement { shape, dim, degree };
+                    let m = round_body(e, 8, 2.0, 3.0).unwrap();
+                    m.check().unwrap();
+                    let exact = if dim == 2 {
+                        std::f64::consts::PI * 4.0
+                    } else {
+                        4.0 / 3.0 * std::f64::consts::PI * 8.0
+                    };
+                    let rel = (m.volume() - exact).abs() / exact;
+                    let tol = if degree == 1 { 0.05 } else { 2e-3 };
+                    assert!(rel < tol, "{e:?}: volume error {rel:.2e}");
+                    let centre = if dim == 2 { [0.0, 2.0] } else { [0.0, 0.0] };
+                    for f in m.boundary_faces() {
+                        for v in f.vertices {
+                            let x = m.nodes[v];
+                            let r: f64 = (0..dim)
+                                .map(|k| (x[k] - centre.get(k).copied().unwrap_or(2.0)).powi(2))
+                                .sum::<f64>()
+                                .sqrt();
+                            assert!((r - 2.0).abs() < 1e-12, "{e:?}: node {v} at r = {r}");
+                        }
+                    }
+                    let faces = m.contact_faces(ContactRule::Facing(FACING)).unwrap();
+                    let cv = m.tributary(&faces);
+                    let lowest = cv
+                        .iter()
+                        .map(|&(i, _)| m.nodes[i][dim - 1])
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(lowest.abs() < 1e-14, "{e:?}: pole at {lowest}");
+                    // Γ_C is the lower half: its measure is about half the boundary's.
+                    let gc: f64 = cv.iter().map(|v| v.1).sum();
+                    let all: f64 = m.boundary_faces().iter().map(|f| f.measure).sum();
+                    assert!((gc / all - 0.5).abs() < 0.1, "{e:?}: {gc} / {all}");
+                }
+            }
+        }
+    }
+
+    /// The grading refines the pole: spacing there is `h`, and r times larger at the top.
+    #[test]
+    fn grading_refines_towards_the_pole() {
+        let e = RefElement {
+            shape: Shape::Tensor,
+            dim: 2,
+            degree: 1,
+        };
+        let (n, r) = (16, 4.0);
+        let m = round_body(e, n, 1.0, r).unwrap();
+        let pole = (0..m.nodes.len())
+            .min_by(|&a, &b| m.nodes[a][1].total_cmp(&m.nodes[b][1]))
+            .unwrap();
+        // The nearest other node on the boundary (y below the pole's neighbours' height).
+        let dx = m
+            .nodes
+            .iter()
+            .filter(|x| x[0] > 0.0 && x[1] < 0.1 * m.h)
+            .map(|x| x[0])
+            .fold(f64::INFINITY, f64::min)
+            - m.nodes[pole][0];
+        assert!((dx - m.h).abs() < 0.05 * m.h, "{dx} vs {}", m.h);
+        let uniform = round_body(e, n, 1.0, 1.0).unwrap();
+        // β / sinh β = 0.53 for r = 4.
+        assert!(m.h < 0.55 * uniform.h, "{} vs {}", m.h, uniform.h);
+    }
+}
