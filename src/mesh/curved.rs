@@ -50,11 +50,14 @@ fn ball(q: [f64; 3]) -> [f64; 3] {
 /// Half-width of the inner cube of the O-grid.
 const INNER: f64 = 0.5;
 
+/// Node coordinates and cell connectivity.
+type Cells = (Vec<[f64; 3]>, Vec<Vec<usize>>);
+
 /// The O-grid of `[−1, 1]^d`: nodes (merged where blocks meet) and connectivity.
-fn o_grid(element: RefElement, n: usize) -> Result<(Vec<[f64; 3]>, Vec<Vec<usize>>)> {
+fn o_grid(element: RefElement, n: usize) -> Result<Cells> {
     let d = element.dim;
     let layers = n.div_ceil(2);
-    let mut blocks: Vec<(Vec<[f64; 3]>, Vec<Vec<usize>>)> = Vec::new();
+    let mut blocks: Vec<Cells> = Vec::new();
     let inner = box_mesh(element, [n; 3], [2.0 * INNER; 3])?;
     let shift = |x: [f64; 3]| std::array::from_fn(|k| if k < d { x[k] - INNER } else { 0.0 });
     blocks.push((
