@@ -196,7 +196,7 @@ fn run_writes_the_documented_outputs() {
     let ts = std::fs::read_to_string(o.join("timeseries.csv")).unwrap();
     assert_eq!(
         ts.lines().next().unwrap(),
-        "t,u_contact,v_contact,sigma_contact,energy,gap,u_contact_exact,sigma_contact_exact,energy_exact"
+        "t,u_contact,v_contact,sigma_contact,energy,gap,force_contact,u_contact_exact,sigma_contact_exact,energy_exact"
     );
     assert_eq!(ts.lines().count(), 1 + 61);
     let summary = std::fs::read_to_string(o.join("summary.csv")).unwrap();
@@ -208,6 +208,10 @@ fn run_writes_the_documented_outputs() {
         "err_sigma_l2",
         "err_energy",
         "sigma_total_variation",
+        "err_contact_duration",
+        "err_peak_force",
+        "err_max_approach",
+        "restitution_eff",
     ] {
         assert!(
             summary.lines().next().unwrap().split(',').any(|c| c == col),

@@ -383,15 +383,20 @@ impl Case for Body {
         for v in v0.iter_mut().skip(d - 1).step_by(d) {
             *v = self.geometry.velocity;
         }
+        let f = fem.gravity_load(&model, self.geometry.gravity);
+        // Gravitational energy measured from the plane: −Fᵀ(x_d + lift) = m g (z_cm + lift).
+        let energy_shift = -(0..fem.mesh.nodes.len())
+            .map(|i| f[i * d + d - 1] * (fem.mesh.nodes[i][d - 1] + self.geometry.lift))
+            .sum::<f64>();
         Ok(Problem {
             k: fem.stiffness()?,
-            f: fem.gravity_load(&model, self.geometry.gravity),
+            f,
             inertia,
             contact,
             u0: vec![0.0; n],
             v0,
             probe,
-            energy_shift: 0.0,
+            energy_shift,
         })
     }
 
@@ -417,5 +422,35 @@ impl Case for Body {
 
     fn histories(&self) -> &[super::sweep::HistorySpec] {
         &self.history
+    }
+
+    fn impact(&self) -> Option<super::Impact> {
+        let hertz = self.hertz?;
+        let fem = &self.fem;
+        let d = fem.dim();
+        let model = fem.mass_model();
+        let mut w = vec![0.0; fem.mesh.nodes.len()];
+        for e in &model.elements {
+            for (a, dof) in e.dofs[d - 1].iter().enumerate() {
+                if let Some(i) = dof {
+                    w[i / d] += e.mass.row(a).sum();
+                }
+            }
+        }
+        let m: f64 = w.iter().sum();
+        Some(super::Impact {
+            hertz,
+            centre: w
+                .iter()
+                .enumerate()
+                .filter(|(_, &x)| x != 0.0)
+                .map(|(i, x)| (i * d + d - 1, x / m))
+                .collect(),
+            positions: fem
+                .contact_vertices
+                .iter()
+                .map(|&(i, _)| fem.mesh.nodes[i])
+                .collect(),
+        })
     }
 }

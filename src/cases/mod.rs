@@ -48,6 +48,22 @@ pub trait Case: Send + Sync {
     fn histories(&self) -> &[sweep::HistorySpec] {
         &[]
     }
+    /// What an impact against Hertz theory measures (curved-body cases), if anything.
+    fn impact(&self) -> Option<Impact> {
+        None
+    }
+}
+
+/// The data of an impact compared with Hertz theory ([`crate::exact::hertz`]).
+#[derive(Debug, Clone)]
+pub struct Impact {
+    /// The Hertz reference.
+    pub hertz: crate::exact::hertz::Hertz,
+    /// `(dof, w)`: the centre of mass's displacement towards the plane is `δ = −Σ w U_dof`
+    /// (`w = ∫ρ φ_i / m` on the normal components).
+    pub centre: Vec<(usize, f64)>,
+    /// Initial coordinates of each contact point (for the pressure profile).
+    pub positions: Vec<[f64; 3]>,
 }
 
 /// The `[run]` table: default discretisation choices.

@@ -6,34 +6,30 @@
 //! boundary): an inner cube `[−½, ½]^d` of n cells per direction and, on each of its 2d faces, a
 //! shell block of n^{d−1} × ⌈n/2⌉ cells whose points are `c = (½ + ½ρ) P`, P on the face of the
 //! unit cube, ρ ∈ [0, 1] (structured blocks, P2/Q2 nodes included, merged where they meet). The
-//! cube is then mapped by two continuous maps:
-//! 1. a grading `q = G(p)` that refines towards the pole `(0, …, 0, −1)`: `q_k = s(p_k)` for the
-//!    tangential coordinates with `s(x) = sinh(βx)/sinh β`, and `q_d = 2 s((p_d + 1)/2) − 1` for the
-//!    vertical one, `cosh β = r` the grading ratio (largest over smallest spacing; r = 1: uniform);
-//! 2. the cube-to-ball map `X = q ((1 − t) + t²/‖q‖₂)`, `t = ‖q‖_∞`: the identity at the centre,
-//!    the radial projection `q/‖q‖₂` on the boundary, monotone along every ray.
+//! cube is then mapped onto the body by
+//! 1. the cube-to-ball map `X = q ((1 − t) + t²/‖q‖₂)`, `t = ‖q‖_∞`: the identity at the centre,
+//!    the radial projection `q/‖q‖₂` on the boundary, monotone along every ray;
+//! 2. a grading towards the pole `−e_d`: the Möbius automorphism of the unit ball sending 0 to
+//!    `b = −α e_d`, `M_b(X) = ((1 − |b|²) X + (1 + 2⟨b,X⟩ + |X|²) b) / (1 + 2⟨b,X⟩ + |b|²|X|²)`.
+//!    It is conformal (cells keep their shape, only their size changes: no cell is flattened or
+//!    inverted) and maps the sphere onto itself; spacing is multiplied by `(1 − α)/(1 + α) = 1/√r`
+//!    at the pole and by `√r` at the opposite pole, `r ≥ 1` the grading ratio.
 //!
 //! Every node, P2/Q2 midpoints included, is mapped, so the boundary nodes lie on the circle or
-//! sphere (isoparametric curved cells). The pole spacing is `h = R (2/n) β / sinh β`.
+//! sphere (isoparametric curved cells). Scaled by R and lifted by R, the pole touches the plane at
+//! the origin. The pole spacing is `h = R (2/n) / √r`.
 
 use super::structured::box_mesh;
 use super::Mesh;
 use crate::error::{Error, Result};
 use crate::fem::reference::RefElement;
 
-/// The grading map `s` on [−1, 1] with ratio `r` (`s(x) = sinh(βx)/sinh β`, `cosh β = r`), and
-/// its slope at 0.
-fn grading(r: f64) -> (impl Fn(f64) -> f64, f64) {
-    let beta = r.acosh();
-    let slope = if beta > 1e-8 { beta / beta.sinh() } else { 1.0 };
-    let s = move |x: f64| {
-        if beta > 1e-8 {
-            (beta * x).sinh() / beta.sinh()
-        } else {
-            x
-        }
-    };
-    (s, slope)
+/// The Möbius automorphism of the unit ball sending 0 to `b`.
+fn mobius(x: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    let (bx, bb, xx) = (dot(b, x), dot(b, b), dot(x, x));
+    let den = 1.0 + 2.0 * bx + bb * xx;
+    std::array::from_fn(|k| ((1.0 - bb) * x[k] + (1.0 + 2.0 * bx + xx) * b[k]) / den)
 }
 
 /// The cube-to-ball map `q ((1 − t) + t²/‖q‖₂)`, `t = ‖q‖_∞`.
@@ -126,18 +122,11 @@ pub fn round_body(element: RefElement, n: usize, radius: f64, grading_ratio: f64
     }
     let d = element.dim;
     let (mut nodes, connectivity) = o_grid(element, n)?;
-    let (s, slope) = grading(grading_ratio);
+    let root = grading_ratio.sqrt();
+    let mut pole = [0.0; 3];
+    pole[d - 1] = -(root - 1.0) / (root + 1.0);
     for x in &mut nodes {
-        let mut q = [0.0; 3];
-        for k in 0..d {
-            let p = x[k];
-            q[k] = if k + 1 < d {
-                s(p)
-            } else {
-                2.0 * s(0.5 * (p + 1.0)) - 1.0
-            };
-        }
-        let b = ball(q);
+        let b = mobius(ball(*x), pole);
         *x = std::array::from_fn(|k| {
             if k + 1 < d {
                 radius * b[k]
@@ -156,7 +145,7 @@ pub fn round_body(element: RefElement, n: usize, radius: f64, grading_ratio: f64
         element,
         nodes,
         connectivity,
-        h: radius * 2.0 / n as f64 * slope,
+        h: radius * 2.0 / n as f64 / root,
         contact_faces: None,
     })
 }
@@ -236,7 +225,11 @@ mod tests {
             - m.nodes[pole][0];
         assert!((dx - m.h).abs() < 0.05 * m.h, "{dx} vs {}", m.h);
         let uniform = round_body(e, n, 1.0, 1.0).unwrap();
-        // β / sinh β = 0.53 for r = 4.
-        assert!(m.h < 0.55 * uniform.h, "{} vs {}", m.h, uniform.h);
+        assert!(
+            (m.h - 0.5 * uniform.h).abs() < 1e-15,
+            "{} vs {}",
+            m.h,
+            uniform.h
+        );
     }
 }

@@ -41,6 +41,26 @@ pub fn read(path: &Path, dim: usize, group: &str) -> Result<Mesh> {
     let index = |tag: u64| -> std::result::Result<usize, String> {
         tag_index(tag).ok_or_else(|| format!("element refers to unknown node {tag}"))
     };
+    if let Some(top) = elements
+        .element_blocks
+        .iter()
+        .map(|b| b.entity_dim as usize)
+        .max()
+    {
+        if top != dim {
+            return Err(err(format!(
+                "the mesh's cells are {top}-dimensional: a {top}D mesh given to a {dim}D case"
+            )));
+        }
+    }
+    if dim == 2 {
+        if let Some(i) = coords.iter().position(|x| x[2] != 0.0) {
+            return Err(err(format!(
+                "node {i} of a 2D mesh has z = {} ≠ 0",
+                coords[i][2]
+            )));
+        }
+    }
     // Cells: the blocks of dimension `dim`, one family.
     let mut element: Option<(RefElement, ElementType)> = None;
     let mut cells: Vec<Vec<usize>> = Vec::new();

@@ -1,6 +1,7 @@
 //! Run metrics (DESIGN.md §6), computed from the probe time series and the field errors.
 
 use super::trajectory::Row;
+use crate::cases::Impact;
 
 /// Metrics of one run. `None` where a metric does not apply (no exact solution, 0D case, …).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -35,6 +36,19 @@ pub struct Metrics {
     pub err_u_contact_ref: Option<f64>,
     /// Without exact solution: `err_sigma_l2` against the sweep's common reference.
     pub err_sigma_l2_ref: Option<f64>,
+    /// Hertz (sphere): `|t_c,h − t_c| / t_c`, t_c,h from the first to the last sample with a
+    /// contact force, plus one step.
+    pub err_contact_duration: Option<f64>,
+    /// Hertz (sphere): `|F_max,h − F_max| / F_max`.
+    pub err_peak_force: Option<f64>,
+    /// Hertz (sphere): `|δ_max,h − δ_max| / δ_max`, δ the centre of mass's approach.
+    pub err_max_approach: Option<f64>,
+    /// Hertz: at peak force F_h, `|a_h − a(F_h)| / a(F_h)`, the computed contact radius (2D:
+    /// half-width) from the second moment of the nodal forces, `a_h² = Σλ|x − x̄|² / (Σλ · c)`,
+    /// c = 2/5 (sphere) or 1/4 (disc), the moment of the Hertz pressure.
+    pub err_contact_radius: Option<f64>,
+    /// Hertz: at peak force, `|p_h − p₀(F_h)| / p₀(F_h)`, p_h the largest `λ_i / area_i`.
+    pub err_peak_pressure: Option<f64>,
 }
 
 impl Metrics {
@@ -129,6 +143,66 @@ pub fn compute(
         impact_time_err: impact.zip(exact_first_impact).map(|(a, b)| (a - b).abs()),
         err_u_contact_ref: None,
         err_sigma_l2_ref: None,
+        err_contact_duration: None,
+        err_peak_force: None,
+        err_max_approach: None,
+        err_contact_radius: None,
+        err_peak_pressure: None,
+    }
+}
+
+/// The Hertz metrics of an impact run: duration, peak force, maximum approach (sphere), the
+/// pressure profile at peak force (`peak`: the nodal forces λ at the sample of largest total
+/// force and the tributary areas), and the restitution from the centre of mass's velocity
+/// after release (`−(δ_N − δ_{N−1}) / (Δt v)`, when the force is zero at the last two samples;
+/// replaces the probe's).
+pub fn hertz(m: &mut Metrics, rows: &[Row], (lambda, area): (&[f64], &[f64]), impact: &Impact) {
+    let h = &impact.hertz;
+    let rel = |x: f64, y: Option<f64>| y.map(|y| (x - y).abs() / y);
+    let active: Vec<&Row> = rows.iter().filter(|r| r.force_contact > 0.0).collect();
+    let (Some(first), Some(last)) = (active.first(), active.last()) else {
+        return;
+    };
+    let dt = rows.get(1).map_or(0.0, |r| r.t - rows[0].t);
+    m.err_contact_duration = rel(last.t - first.t + dt, h.duration());
+    let f_max = rows.iter().map(|r| r.force_contact).fold(0.0, f64::max);
+    m.err_peak_force = rel(f_max, h.peak_force());
+    let d_max = rows
+        .iter()
+        .filter_map(|r| r.approach)
+        .fold(f64::NEG_INFINITY, f64::max);
+    m.err_max_approach = rel(d_max, h.max_approach());
+    let n = rows.len();
+    if n >= 2 && rows[n - 1].force_contact == 0.0 && rows[n - 2].force_contact == 0.0 {
+        if let (Some(a), Some(b)) = (rows[n - 1].approach, rows[n - 2].approach) {
+            m.restitution_eff = Some(-(a - b) / (dt * h.speed));
+        }
+    }
+    let force: f64 = lambda.iter().sum();
+    if force > 0.0 && lambda.len() == impact.positions.len() {
+        let tangential = h.dim - 1;
+        let x = &impact.positions;
+        let centre: Vec<f64> = (0..tangential)
+            .map(|k| lambda.iter().zip(x).map(|(l, p)| l * p[k]).sum::<f64>() / force)
+            .collect();
+        let moment = lambda
+            .iter()
+            .zip(x)
+            .map(|(l, p)| {
+                l * (0..tangential)
+                    .map(|k| (p[k] - centre[k]).powi(2))
+                    .sum::<f64>()
+            })
+            .sum::<f64>()
+            / force;
+        let radius = (moment / h.second_moment_ratio()).sqrt();
+        m.err_contact_radius = rel(radius, Some(h.contact_radius(force)));
+        let p = lambda
+            .iter()
+            .zip(area)
+            .map(|(l, a)| l / a)
+            .fold(0.0, f64::max);
+        m.err_peak_pressure = rel(p, Some(h.peak_pressure(force)));
     }
 }
 

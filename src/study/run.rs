@@ -77,6 +77,7 @@ pub fn run_with_progress(case: &dyn Case, progress: bool) -> Result<RunResult> {
         crate::contact::by_name(&spec.contact_solver, problem.contact.len(), spec.penalty)?;
     let field = case.field_error();
     let exact = case.exact();
+    let impact = case.impact();
     let start = Instant::now();
     let solvers = crate::time::Solvers {
         contact: solver,
@@ -84,27 +85,36 @@ pub fn run_with_progress(case: &dyn Case, progress: bool) -> Result<RunResult> {
     };
     let mut integrator = scheme.prepare(&problem, spec.dt, solvers)?;
     let mut bar = Progress::new(progress, steps);
-    let (rows, field_errors, iterations) = std::thread::scope(|scope| -> Result<_> {
+    let (rows, field_errors, peak, iterations) = std::thread::scope(|scope| -> Result<_> {
         let (tx, rx) = mpsc::sync_channel::<Snapshot>(SAMPLE_QUEUE);
         let (recycle, recycled) = mpsc::channel();
         let (problem, field) = (&problem, &field);
         let mut probe = Probe {
             b_row: problem.contact.row(problem.probe.contact),
             energy: problem.energy_form(),
+            centre: impact.as_ref().map(|i| i.centre.clone()),
         };
         let sampler = scope.spawn(move || {
-            let mut rows = Vec::with_capacity(steps + 1);
+            let mut rows: Vec<Row> = Vec::with_capacity(steps + 1);
             let mut errors = Vec::with_capacity(if field.is_some() { steps + 1 } else { 0 });
+            // The nodal forces at the sample of largest total force (impact cases).
+            let (mut peak, mut f_peak) = (Vec::new(), 0.0);
             for snap in rx {
                 let s = snap.state();
-                rows.push(probe_row(problem, &mut probe, &s, exact));
+                let row = probe_row(problem, &mut probe, &s, exact);
+                if probe.centre.is_some() && row.force_contact > f_peak {
+                    f_peak = row.force_contact;
+                    peak.clear();
+                    peak.extend_from_slice(s.lambda);
+                }
+                rows.push(row);
                 if let Some(f) = field {
                     errors.push(f.errors(s.u, s.t));
                 }
                 // The time loop may have finished: a snapshot nobody reuses is dropped.
                 let _ = recycle.send(snap);
             }
-            (rows, errors)
+            (rows, errors, peak)
         });
         let send = |it: &dyn Integrator| {
             let mut snap: Snapshot = recycled.try_recv().unwrap_or_default();
@@ -120,20 +130,23 @@ pub fn run_with_progress(case: &dyn Case, progress: bool) -> Result<RunResult> {
             bar.update(n + 1);
         }
         drop(tx);
-        let (rows, errors) = sampler
+        let (rows, errors, peak) = sampler
             .join()
             .map_err(|_| Error::Unsupported("the sampling thread panicked".into()))?;
-        Ok((rows, errors, iterations))
+        Ok((rows, errors, peak, iterations))
     })?;
     bar.finish();
     let wall_time = start.elapsed().as_secs_f64();
-    let metrics = metrics::compute(
+    let mut metrics = metrics::compute(
         &rows,
         &field_errors,
         spec.dt,
         case.stress_is_function(),
         exact.and_then(|e| e.first_impact()),
     );
+    if let Some(i) = &impact {
+        metrics::hertz(&mut metrics, &rows, (&peak, &problem.contact.area), i);
+    }
     Ok(RunResult {
         rows,
         summary: Summary {
@@ -249,6 +262,8 @@ struct Probe {
     /// The probe's row of B_N.
     b_row: Vec<(usize, f64)>,
     energy: EnergyForm,
+    /// The centre of mass's weights, for the approach of the curved-body cases.
+    centre: Option<Vec<(usize, f64)>>,
 }
 
 /// The probe's row of the time series.
@@ -267,6 +282,11 @@ fn probe_row(
         energy: probe.energy.energy(s.energy_u, s.v),
         gap: problem.contact.g0[p.contact]
             - probe.b_row.iter().map(|&(j, v)| v * s.u[j]).sum::<f64>(),
+        force_contact: s.lambda.iter().sum(),
+        approach: probe
+            .centre
+            .as_ref()
+            .map(|w| -w.iter().map(|&(j, x)| x * s.u[j]).sum::<f64>()),
         exact: exact.map(|e| {
             let c = e.contact(s.t);
             (c.u, c.sigma, e.energy(s.t))
@@ -299,6 +319,11 @@ pub const SUMMARY_COLUMNS: &[&str] = &[
     "impact_time_err",
     "err_u_contact_ref",
     "err_sigma_l2_ref",
+    "err_contact_duration",
+    "err_peak_force",
+    "err_max_approach",
+    "err_contact_radius",
+    "err_peak_pressure",
 ];
 
 /// The fields of one summary row, in [`SUMMARY_COLUMNS`] order.
@@ -331,6 +356,11 @@ pub fn summary_record(s: &Summary) -> Vec<String> {
             m.impact_time_err,
             m.err_u_contact_ref,
             m.err_sigma_l2_ref,
+            m.err_contact_duration,
+            m.err_peak_force,
+            m.err_max_approach,
+            m.err_contact_radius,
+            m.err_peak_pressure,
         ]
         .into_iter()
         .map(fmt_float),

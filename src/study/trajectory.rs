@@ -1,7 +1,9 @@
 //! The probe time series of a run (one [`Row`] per step, and t = 0) and its `timeseries.csv`.
 //!
-//! `timeseries.csv`: `t, u_contact, v_contact, sigma_contact, energy, gap` and, when the case has
-//! an exact solution, `u_contact_exact, sigma_contact_exact, energy_exact`. `sigma_contact` is the
+//! `timeseries.csv`: `t, u_contact, v_contact, sigma_contact, energy, gap, force_contact` (the total
+//! contact force Σλ), then `approach` (the centre of mass's displacement towards the plane) for
+//! the curved-body cases and, when the case has an exact solution,
+//! `u_contact_exact, sigma_contact_exact, energy_exact`. `sigma_contact` is the
 //! normal contact stress σ_N = −λ/area (compression negative). Units are those of the case file
 //! (time, length, length/time, force/area, energy, length).
 
@@ -24,6 +26,11 @@ pub struct Row {
     pub energy: f64,
     /// Gap g = g₀ − B_N U at the probe.
     pub gap: f64,
+    /// Total contact force Σ_i λ_i (≥ 0; per unit thickness in 2D).
+    pub force_contact: f64,
+    /// Rigid approach δ of the body: displacement of its centre of mass towards the plane
+    /// (curved-body cases).
+    pub approach: Option<f64>,
     /// Exact `(u, σ_N, E)` at the contact point, when the case has an exact solution.
     pub exact: Option<(f64, f64, f64)>,
 }
@@ -36,13 +43,18 @@ pub const TIMESERIES_COLUMNS: &[&str] = &[
     "sigma_contact",
     "energy",
     "gap",
+    "force_contact",
 ];
 /// Exact-solution columns of `timeseries.csv`.
 pub const EXACT_COLUMNS: &[&str] = &["u_contact_exact", "sigma_contact_exact", "energy_exact"];
 /// Writes `timeseries.csv`.
 pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
     let exact = rows.first().is_some_and(|r| r.exact.is_some());
+    let approach = rows.first().is_some_and(|r| r.approach.is_some());
     let mut header = TIMESERIES_COLUMNS.to_vec();
+    if approach {
+        header.push("approach");
+    }
     if exact {
         header.extend_from_slice(EXACT_COLUMNS);
     }
@@ -57,7 +69,9 @@ pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
                 r.sigma_contact,
                 r.energy,
                 r.gap,
+                r.force_contact,
             ];
+            v.extend(r.approach);
             if let Some((u, s, e)) = r.exact {
                 v.extend([u, s, e]);
             }
