@@ -247,3 +247,49 @@ impl Discretisation {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::reference::{RefElement, Shape};
+    use crate::mesh::structured::box_mesh;
+    use crate::mesh::FACING;
+
+    /// A body already through the plane at t = 0 is refused, naming the node; a reflected mesh
+    /// (every cell negatively oriented) is accepted and gives the same stiffness.
+    #[test]
+    fn initial_penetration_is_refused_and_orientation_does_not_matter() {
+        let e = RefElement {
+            shape: Shape::Tensor,
+            dim: 2,
+            degree: 1,
+        };
+        let lame = Lame::from_young_poisson(1.0, 0.3);
+        let mut mesh = box_mesh(e, [2, 2, 1], [1.0, 1.0, 1.0]).unwrap();
+        mesh.nodes[0][1] = -0.1;
+        let fem = Discretisation::new(mesh, lame, 1.0, ContactRule::Facing(FACING)).unwrap();
+        let err = fem.contact(0.0).unwrap_err().to_string();
+        assert!(
+            err.contains("node 0") && err.contains("penetrates"),
+            "{err}"
+        );
+        assert!(fem.contact(0.2).is_ok());
+        let mesh = box_mesh(e, [2, 2, 1], [1.0, 1.0, 1.0]).unwrap();
+        let mut mirrored = mesh.clone();
+        for x in &mut mirrored.nodes {
+            x[0] = 1.0 - x[0];
+        }
+        let k = |m| {
+            Discretisation::new(m, lame, 1.0, ContactRule::Facing(FACING))
+                .unwrap()
+                .stiffness()
+                .unwrap()
+        };
+        let (a, b) = (k(mesh), k(mirrored));
+        let diag = |m: &SpMat| crate::linalg::diagonal(m);
+        assert!(diag(&a)
+            .iter()
+            .zip(diag(&b))
+            .all(|(x, y)| (x - y).abs() < 1e-14));
+    }
+}
