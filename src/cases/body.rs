@@ -428,15 +428,7 @@ impl Case for Body {
         let hertz = self.hertz?;
         let fem = &self.fem;
         let d = fem.dim();
-        let model = fem.mass_model();
-        let mut w = vec![0.0; fem.mesh.nodes.len()];
-        for e in &model.elements {
-            for (a, dof) in e.dofs[d - 1].iter().enumerate() {
-                if let Some(i) = dof {
-                    w[i / d] += e.mass.row(a).sum();
-                }
-            }
-        }
+        let w = fem.nodal_masses(&fem.mass_model());
         let m: f64 = w.iter().sum();
         Some(super::Impact {
             hertz,

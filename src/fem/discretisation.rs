@@ -162,16 +162,26 @@ impl Discretisation {
         }
     }
 
+    /// The mass `∫ρ φ_i` of every node (row sums of the consistent element masses).
+    pub fn nodal_masses(&self, model: &MassModel) -> Vec<f64> {
+        let d = self.dim();
+        let mut w = vec![0.0; self.mesh.nodes.len()];
+        for e in &model.elements {
+            for (a, dof) in e.dofs[d - 1].iter().enumerate() {
+                if let Some(i) = dof {
+                    w[i / d] += e.mass.row(a).sum();
+                }
+            }
+        }
+        w
+    }
+
     /// The consistent body force `F_i = −g ∫ρ φ_i` on the last component (gravity g ≥ 0).
     pub fn gravity_load(&self, model: &MassModel, gravity: f64) -> Vec<f64> {
         let d = self.dim();
         let mut f = vec![0.0; self.n_dofs()];
-        for e in &model.elements {
-            for (a, dof) in e.dofs[d - 1].iter().enumerate() {
-                if let Some(i) = dof {
-                    f[*i] -= gravity * e.mass.row(a).sum();
-                }
-            }
+        for (i, m) in self.nodal_masses(model).into_iter().enumerate() {
+            f[self.dof(i, d - 1)] = -gravity * m;
         }
         f
     }

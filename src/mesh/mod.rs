@@ -8,7 +8,7 @@ pub mod interval;
 pub mod structured;
 
 use crate::error::{Error, Result};
-use crate::fem::reference::{RefElement, Shape};
+use crate::fem::reference::RefElement;
 use std::collections::HashMap;
 
 /// An unstructured mesh of one element family (any vertex numbering; cells with every local
@@ -302,16 +302,5 @@ impl Mesh {
                     .sum::<f64>()
             })
             .sum()
-    }
-
-    /// Shape check shared by the builders: the element family exists in this dimension.
-    pub fn family(origin: &str, shape: Shape, dim: usize, degree: usize) -> Result<RefElement> {
-        if !(2..=3).contains(&dim) || !(1..=2).contains(&degree) {
-            return Err(Error::Mesh {
-                origin: origin.into(),
-                message: format!("no element of degree {degree} in dimension {dim}"),
-            });
-        }
-        Ok(RefElement { shape, dim, degree })
     }
 }
