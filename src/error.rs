@@ -58,6 +58,9 @@ pub enum Error {
     /// A mesh (file or generator) is unusable: inverted cell, missing group, unknown element…
     #[error("{origin}: {message}")]
     Mesh { origin: String, message: String },
+    /// Writing or reading VTK field output failed.
+    #[error("vtk output {path}: {message}")]
+    Vtk { path: PathBuf, message: String },
     /// Plotting failed.
     #[error("plot {path}: {message}")]
     Plot { path: PathBuf, message: String },

@@ -128,6 +128,15 @@ enum Command {
         /// Output directory.
         #[arg(long, default_value = "out")]
         out: PathBuf,
+        /// Write the fields (displacement, velocity, von Mises stress, contact pressure) for
+        /// ParaView into DIR: `<case>_<sample>.vtu` files and their `<case>.pvd` collection
+        /// (2D/3D body cases).
+        #[arg(long, value_name = "DIR")]
+        vtu: Option<PathBuf>,
+        /// With --vtu, write every K-th sample (the initial state included).
+        #[arg(long = "vtu-every", value_name = "K", default_value_t = 1,
+              value_parser = clap::value_parser!(u64).range(1..))]
+        vtu_every: u64,
     },
 }
 
@@ -269,6 +278,8 @@ fn main_result(cli: Cli) -> Result<()> {
             dt,
             t_end,
             out,
+            vtu,
+            vtu_every,
         } => {
             let overrides = Overrides {
                 space,
@@ -288,7 +299,15 @@ fn main_result(cli: Cli) -> Result<()> {
                 t_end,
             };
             let case = cases::load(&case, &overrides)?;
-            let result = run::run_with_progress(case.as_ref(), std::io::stdout().is_terminal())?;
+            let fields = vtu.map(|dir| run::FieldOutput {
+                dir,
+                every: vtu_every as usize,
+            });
+            let result = run::run_with_output(
+                case.as_ref(),
+                std::io::stdout().is_terminal(),
+                fields.as_ref(),
+            )?;
             run::write_run(&out, &result)?;
             let s = &result.summary;
             let m = &s.metrics;
@@ -300,6 +319,9 @@ fn main_result(cli: Cli) -> Result<()> {
                 "wrote {}/{{timeseries.csv, summary.csv, energy.png, contact.png}}",
                 out.display()
             );
+            if let Some(f) = &fields {
+                println!("wrote {}/{}.pvd", f.dir.display(), s.case);
+            }
             Ok(())
         }
     }

@@ -121,6 +121,24 @@ fn bad_command_line_values_give_clear_errors() {
         &dyncontact(&["sweep", "cases/bar1d.toml", "--shard", "3/2", "--out", o]),
         "--shard",
     );
+    // Field output needs a mesh, and a positive stride.
+    assert_clear_error(
+        &dyncontact(&["run", "cases/bar1d.toml", "--vtu", o, "--out", o]),
+        "needs a 2D/3D body case",
+    );
+    assert_clear_error(
+        &dyncontact(&[
+            "run",
+            "cases/hertz2d.toml",
+            "--vtu",
+            o,
+            "--vtu-every",
+            "0",
+            "--out",
+            o,
+        ]),
+        "--vtu-every",
+    );
 }
 
 /// `sweep --quick` writes one record per run and an orders table covering every space × scheme

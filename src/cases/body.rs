@@ -424,6 +424,10 @@ impl Case for Body {
         &self.history
     }
 
+    fn discretisation(&self) -> Option<&Discretisation> {
+        Some(&self.fem)
+    }
+
     fn impact(&self) -> Option<super::Impact> {
         let hertz = self.hertz?;
         let fem = &self.fem;

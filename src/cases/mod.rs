@@ -48,6 +48,10 @@ pub trait Case: Send + Sync {
     fn histories(&self) -> &[sweep::HistorySpec] {
         &[]
     }
+    /// The mesh discretisation of a 2D/3D body case (field output), if any.
+    fn discretisation(&self) -> Option<&crate::fem::discretisation::Discretisation> {
+        None
+    }
     /// What an impact against Hertz theory measures (curved-body cases), if anything.
     fn impact(&self) -> Option<Impact> {
         None

@@ -13,7 +13,9 @@
 
 use crate::error::{Error, Result};
 use crate::fem::assembly::assemble;
-use crate::fem::elasticity::{element_mass, element_stiffness, mixed_matrices, Lame};
+use crate::fem::elasticity::{
+    element_mass, element_stiffness, mixed_matrices, stress, von_mises, Lame,
+};
 use crate::linalg::{SpMat, TripletBuilder};
 use crate::mesh::{ContactRule, Mesh};
 use crate::problem::{Contact, Inertia, Probe};
@@ -213,6 +215,68 @@ impl Discretisation {
             g0,
             area: self.contact_vertices.iter().map(|v| v.1).collect(),
         })
+    }
+
+    /// Von Mises stress `√(3/2 s:s)` of the displacement `u` at the centroid of every cell
+    /// (plane strain in 2D).
+    pub fn von_mises(&self, u: &[f64]) -> Vec<f64> {
+        let (d, mesh) = (self.dim(), &self.mesh);
+        let (el, centre) = (mesh.element, mesh.element.centre());
+        (0..mesh.connectivity.len())
+            .into_par_iter()
+            .map(|c| {
+                let local: Vec<f64> = mesh.connectivity[c]
+                    .iter()
+                    .flat_map(|&i| (0..d).map(move |k| u[i * d + k]))
+                    .collect();
+                von_mises(&stress(&el, &mesh.cell_nodes(c), self.lame, &local, centre))
+            })
+            .collect()
+    }
+
+    /// The velocity at every node (dof layout of U): `v` itself when it lives in V_h; the H_h
+    /// velocity of the singular dynamic method (degree 1, at the vertices) interpolated at the
+    /// other nodes. Errors on any other length.
+    pub fn nodal_velocity(&self, v: &[f64]) -> Result<Vec<f64>> {
+        let (d, n) = (self.dim(), self.n_dofs());
+        if v.len() == n {
+            return Ok(v.to_vec());
+        }
+        let (vertex, nv) = self.vertex_index();
+        if v.len() != nv * d {
+            return Err(Error::Unsupported(format!(
+                "a velocity of {} entries is neither in V_h ({n}) nor in H_h ({})",
+                v.len(),
+                nv * d
+            )));
+        }
+        let el = self.mesh.element;
+        let (lin, map) = el.linear();
+        let mut out = vec![0.0; n];
+        // H_h is continuous: every cell containing node i gives the same value.
+        for cell in &self.mesh.connectivity {
+            for (a, &i) in cell.iter().enumerate() {
+                let psi = lin.eval(el.node(a)).0;
+                for k in 0..d {
+                    out[i * d + k] = map
+                        .iter()
+                        .zip(&psi)
+                        .filter_map(|(&la, p)| vertex[cell[la]].map(|vi| p * v[vi * d + k]))
+                        .sum();
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// The contact pressure `λ_r / |Γ_C|_r` at every node (0 off Γ_C) from the nodal contact
+    /// forces λ (one per Γ_C vertex, in [`Discretisation::contact_vertices`] order).
+    pub fn contact_pressure(&self, lambda: &[f64]) -> Vec<f64> {
+        let mut p = vec![0.0; self.mesh.nodes.len()];
+        for (&(i, area), l) in self.contact_vertices.iter().zip(lambda) {
+            p[i] = l / area;
+        }
+        p
     }
 
     /// The probe: the Γ_C vertex nearest the plane at t = 0, ties (within 1e-9 h) broken by the

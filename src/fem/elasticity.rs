@@ -124,7 +124,8 @@ pub fn mixed_matrices(el: &RefElement, x: &[[f64; 3]], rho: f64) -> (DMatrix<f64
     (c, b)
 }
 
-/// Stress tensor at reference point ξ of a cell from its local displacements `u[a·dim + c]`.
+/// Stress tensor at reference point ξ of a cell from its local displacements `u[a·dim + c]`
+/// (in 2D the plane-strain tensor, with σ_zz = λ tr ε).
 pub fn stress(
     el: &RefElement,
     x: &[[f64; 3]],
@@ -148,5 +149,15 @@ pub fn stress(
     for c in 0..d {
         sigma[(c, c)] += lame.lambda * tr;
     }
+    if d == 2 {
+        // Plane strain: ε_zz = 0, σ_zz = λ tr ε.
+        sigma[(2, 2)] = lame.lambda * tr;
+    }
     sigma
+}
+
+/// Von Mises equivalent stress `√(3/2 s:s)`, `s = σ − (tr σ / 3) I` the deviator.
+pub fn von_mises(sigma: &Matrix3<f64>) -> f64 {
+    let s = sigma - Matrix3::identity() * (sigma.trace() / 3.0);
+    (1.5 * s.component_mul(&s).sum()).sqrt()
 }

@@ -90,6 +90,15 @@ impl RefElement {
         }
     }
 
+    /// Reference coordinates of the cell's centroid.
+    pub fn centre(&self) -> [f64; 3] {
+        let c = match self.shape {
+            Shape::Tensor => 0.5,
+            Shape::Simplex => 1.0 / (self.dim + 1) as f64,
+        };
+        std::array::from_fn(|k| if k < self.dim { c } else { 0.0 })
+    }
+
     /// True when local node `a` is a vertex of the cell.
     pub fn is_vertex(&self, a: usize) -> bool {
         match self.shape {

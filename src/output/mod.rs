@@ -3,6 +3,7 @@
 
 pub mod csv;
 pub mod plot;
+pub mod vtu;
 
 /// A float as written to CSV: `{:.12e}`; `None` as an empty field.
 pub fn fmt_float(x: Option<f64>) -> String {

@@ -6,6 +6,7 @@ use super::trajectory::{self, Row};
 use crate::cases::Case;
 use crate::error::{Error, Result};
 use crate::output::plot::{time_plot, Series, PALETTE};
+use crate::output::vtu::{Fields, VtuSeries};
 use crate::output::{csv::write_rows, fmt_float};
 use crate::problem::{EnergyForm, Problem};
 use crate::time::{Integrator, State};
@@ -58,6 +59,16 @@ pub fn run(case: &dyn Case) -> Result<RunResult> {
     run_with_progress(case, false)
 }
 
+/// Field output of a run (`run --vtu DIR --vtu-every K`): the `.vtu` files of every K-th sample
+/// (the initial state included) and their `.pvd` collection, see [`crate::output::vtu`].
+#[derive(Debug, Clone)]
+pub struct FieldOutput {
+    /// Output directory.
+    pub dir: std::path::PathBuf,
+    /// Write every `every`-th sample (≥ 1).
+    pub every: usize,
+}
+
 /// Runs the case; with `progress`, a bar with steps/s and ETA appears on stderr once the time
 /// loop has taken [`PROGRESS_AFTER`].
 ///
@@ -65,7 +76,27 @@ pub fn run(case: &dyn Case) -> Result<RunResult> {
 /// errors of each sample are computed on a second thread from recycled copies, so a run costs
 /// what its solver costs on two cores.
 pub fn run_with_progress(case: &dyn Case, progress: bool) -> Result<RunResult> {
+    run_with_output(case, progress, None)
+}
+
+/// As [`run_with_progress`], with field output when `fields` is given (body cases only: an
+/// error names the case otherwise).
+pub fn run_with_output(
+    case: &dyn Case,
+    progress: bool,
+    fields: Option<&FieldOutput>,
+) -> Result<RunResult> {
     let spec = case.run();
+    let mut vtu = match (fields, case.discretisation()) {
+        (None, _) => None,
+        (Some(f), Some(fem)) => Some(VtuSeries::new(fem, &f.dir, case.kind(), f.every)?),
+        (Some(_), None) => {
+            return Err(Error::Unsupported(format!(
+                "field output (--vtu) needs a 2D/3D body case, not {}",
+                case.kind()
+            )))
+        }
+    };
     let steps = spec.steps();
     // The time series and field errors kept per step (rows, copies in flight aside).
     let per_step = (std::mem::size_of::<Row>() + 16) as f64;
@@ -94,13 +125,24 @@ pub fn run_with_progress(case: &dyn Case, progress: bool) -> Result<RunResult> {
             energy: problem.energy_form(),
             centre: impact.as_ref().map(|i| i.centre.clone()),
         };
-        let sampler = scope.spawn(move || {
+        let sampler = scope.spawn(move || -> Result<_> {
             let mut rows: Vec<Row> = Vec::with_capacity(steps + 1);
             let mut errors = Vec::with_capacity(if field.is_some() { steps + 1 } else { 0 });
             // The nodal forces at the sample of largest total force (impact cases).
             let (mut peak, mut f_peak) = (Vec::new(), 0.0);
-            for snap in rx {
+            for (index, snap) in rx.into_iter().enumerate() {
                 let s = snap.state();
+                if let Some(out) = vtu.as_mut() {
+                    out.sample(
+                        index,
+                        &Fields {
+                            t: s.t,
+                            u: s.u,
+                            v: s.v,
+                            lambda: s.lambda,
+                        },
+                    )?;
+                }
                 let row = probe_row(problem, &mut probe, &s, exact);
                 if probe.centre.is_some() && row.force_contact > f_peak {
                     f_peak = row.force_contact;
@@ -114,25 +156,31 @@ pub fn run_with_progress(case: &dyn Case, progress: bool) -> Result<RunResult> {
                 // The time loop may have finished: a snapshot nobody reuses is dropped.
                 let _ = recycle.send(snap);
             }
-            (rows, errors, peak)
+            Ok((rows, errors, peak))
         });
+        // A failed send means the sampler stopped on an error, which its join reports.
         let send = |it: &dyn Integrator| {
             let mut snap: Snapshot = recycled.try_recv().unwrap_or_default();
             snap.fill(&it.state());
-            tx.send(snap)
-                .map_err(|_| Error::Unsupported("the sampling thread stopped".into()))
+            tx.send(snap).is_ok()
         };
-        send(integrator.as_ref())?;
         let mut iterations = 0;
-        for n in 0..steps {
-            iterations += integrator.step()?.contact_iterations;
-            send(integrator.as_ref())?;
-            bar.update(n + 1);
+        if send(integrator.as_ref()) {
+            for n in 0..steps {
+                iterations += integrator.step()?.contact_iterations;
+                if !send(integrator.as_ref()) {
+                    break;
+                }
+                bar.update(n + 1);
+            }
         }
         drop(tx);
         let (rows, errors, peak) = sampler
             .join()
-            .map_err(|_| Error::Unsupported("the sampling thread panicked".into()))?;
+            .map_err(|_| Error::Unsupported("the sampling thread panicked".into()))??;
+        if rows.len() != steps + 1 {
+            return Err(Error::Unsupported("the sampling thread stopped".into()));
+        }
         Ok((rows, errors, peak, iterations))
     })?;
     bar.finish();

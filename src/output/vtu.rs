@@ -1,0 +1,274 @@
+//! Field output for ParaView: one VTK XML unstructured grid (`.vtu`, raw binary encoded in
+//! base64, written with vtkio) per written step, and a `.pvd` collection listing the files with
+//! their times (ParaView opens the `.pvd` as one time series).
+//!
+//! Point data, 3 components with z = 0 in 2D: `displacement`, `velocity`; scalar
+//! `contact_pressure` = λ_r / |Γ_C|_r on the vertices of Γ_C (≥ 0 in compression), 0 elsewhere.
+//! Cell data: `von_mises`, the von Mises stress at the cell centroid (plane strain in 2D).
+//! Points are the reference (undeformed) positions: ParaView's *Warp By Vector* on
+//! `displacement` draws the deformed body. P2/Q2 cells are VTK's quadratic cells (quadratic
+//! triangle 22, biquadratic quad 28, quadratic tetra 24, triquadratic hexahedron 29), their
+//! nodes permuted into VTK's order by reference coordinates ([`vtk_order`]).
+
+use crate::error::{Error, Result};
+use crate::fem::discretisation::Discretisation;
+use crate::fem::reference::{RefElement, Shape};
+use std::path::{Path, PathBuf};
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, CellType, Cells, DataSet, UnstructuredGridPiece, Version,
+    VertexNumbers, Vtk,
+};
+
+/// Reference coordinates of VTK's vertices and, for degree 2, the vertex groups whose centroid
+/// is each further node, in VTK's order.
+fn vtk_layout(el: &RefElement) -> (Vec<[f64; 3]>, &'static [&'static [usize]]) {
+    let v = |x: &[[f64; 3]]| x.to_vec();
+    match (el.shape, el.dim) {
+        (Shape::Simplex, 2) => (
+            v(&[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]]),
+            &[&[0, 1], &[1, 2], &[2, 0]],
+        ),
+        (Shape::Tensor, 2) => (
+            v(&[[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]]),
+            &[&[0, 1], &[1, 2], &[2, 3], &[3, 0], &[0, 1, 2, 3]],
+        ),
+        (Shape::Simplex, _) => (
+            v(&[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]]),
+            &[&[0, 1], &[1, 2], &[2, 0], &[0, 3], &[1, 3], &[2, 3]],
+        ),
+        (Shape::Tensor, _) => (
+            v(&[
+                [0., 0., 0.],
+                [1., 0., 0.],
+                [1., 1., 0.],
+                [0., 1., 0.],
+                [0., 0., 1.],
+                [1., 0., 1.],
+                [1., 1., 1.],
+                [0., 1., 1.],
+            ]),
+            &[
+                &[0, 1],
+                &[1, 2],
+                &[2, 3],
+                &[3, 0],
+                &[4, 5],
+                &[5, 6],
+                &[6, 7],
+                &[7, 4],
+                &[0, 4],
+                &[1, 5],
+                &[2, 6],
+                &[3, 7],
+                &[0, 3, 7, 4],
+                &[1, 2, 6, 5],
+                &[0, 1, 5, 4],
+                &[3, 2, 6, 7],
+                &[0, 1, 2, 3],
+                &[4, 5, 6, 7],
+                &[0, 1, 2, 3, 4, 5, 6, 7],
+            ],
+        ),
+    }
+}
+
+/// The VTK cell type of `el` and, for each VTK local node, the local node of `el` at the same
+/// reference coordinates.
+pub fn vtk_order(el: &RefElement) -> (CellType, Vec<usize>) {
+    let (vertices, groups) = vtk_layout(el);
+    let mut points = vertices.clone();
+    if el.degree == 2 {
+        points.extend(groups.iter().map(|g| {
+            std::array::from_fn(|k| g.iter().map(|&i| vertices[i][k]).sum::<f64>() / g.len() as f64)
+        }));
+    }
+    let order = points
+        .iter()
+        .map(|x| {
+            (0..el.n_nodes())
+                .find(|&a| el.node(a).iter().zip(x).all(|(p, q)| (p - q).abs() < 1e-12))
+                .expect("every VTK node of a Lagrange cell of degree ≤ 2 is one of its nodes")
+        })
+        .collect();
+    let cell_type = match (el.shape, el.dim, el.degree) {
+        (Shape::Simplex, 2, 1) => CellType::Triangle,
+        (Shape::Tensor, 2, 1) => CellType::Quad,
+        (Shape::Simplex, _, 1) => CellType::Tetra,
+        (Shape::Tensor, _, 1) => CellType::Hexahedron,
+        (Shape::Simplex, 2, _) => CellType::QuadraticTriangle,
+        (Shape::Tensor, 2, _) => CellType::BiquadraticQuad,
+        (Shape::Simplex, _, _) => CellType::QuadraticTetra,
+        (Shape::Tensor, _, _) => CellType::TriquadraticHexahedron,
+    };
+    (cell_type, order)
+}
+
+/// Fields of a body written every `every` samples into `dir` as `<stem>_<index>.vtu`, listed
+/// in `<stem>.pvd` (rewritten after each file, so that it is valid if the run stops).
+pub struct VtuSeries<'a> {
+    fem: &'a Discretisation,
+    dir: PathBuf,
+    stem: String,
+    every: usize,
+    cells: Cells,
+    points: Vec<f64>,
+    written: Vec<(f64, String)>,
+}
+
+/// The state written at one sample.
+pub struct Fields<'s> {
+    /// Time.
+    pub t: f64,
+    /// Displacement U (dof layout of the discretisation).
+    pub u: &'s [f64],
+    /// Velocity, in V_h or in H_h (see [`Discretisation::nodal_velocity`]).
+    pub v: &'s [f64],
+    /// Nodal contact forces λ on the Γ_C vertices.
+    pub lambda: &'s [f64],
+}
+
+/// `d`-component nodal values padded to 3 components.
+fn padded(values: &[f64], d: usize) -> Vec<f64> {
+    values
+        .chunks(d)
+        .flat_map(|c| (0..3).map(move |k| c.get(k).copied().unwrap_or(0.0)))
+        .collect()
+}
+
+impl<'a> VtuSeries<'a> {
+    /// Creates `dir`; `every ≥ 1` (checked by the caller's argument validation, refused here too).
+    pub fn new(fem: &'a Discretisation, dir: &Path, stem: &str, every: usize) -> Result<Self> {
+        if every == 0 {
+            return Err(Error::invalid("vtu-every", every, "must be ≥ 1"));
+        }
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        let (cell_type, order) = vtk_order(&fem.mesh.element);
+        let connectivity: Vec<u64> = fem
+            .mesh
+            .connectivity
+            .iter()
+            .flat_map(|cell| order.iter().map(|&a| cell[a] as u64))
+            .collect();
+        let offsets = (1..=fem.mesh.connectivity.len())
+            .map(|c| (c * order.len()) as u64)
+            .collect();
+        Ok(Self {
+            fem,
+            dir: dir.to_path_buf(),
+            stem: stem.to_string(),
+            every,
+            cells: Cells {
+                cell_verts: VertexNumbers::XML {
+                    connectivity,
+                    offsets,
+                },
+                types: vec![cell_type; fem.mesh.connectivity.len()],
+            },
+            points: fem.mesh.nodes.iter().flatten().copied().collect(),
+            written: Vec::new(),
+        })
+    }
+
+    /// Writes sample number `index` of the run when `index` is a multiple of `every`.
+    pub fn sample(&mut self, index: usize, s: &Fields<'_>) -> Result<()> {
+        if index % self.every != 0 {
+            return Ok(());
+        }
+        let name = format!("{}_{index:06}.vtu", self.stem);
+        let path = self.dir.join(&name);
+        let d = self.fem.dim();
+        let velocity = self.fem.nodal_velocity(s.v)?;
+        let point = vec![
+            Attribute::vectors("displacement").with_data(padded(s.u, d)),
+            Attribute::vectors("velocity").with_data(padded(&velocity, d)),
+            Attribute::scalars("contact_pressure", 1)
+                .with_data(self.fem.contact_pressure(s.lambda)),
+        ];
+        let cell = vec![Attribute::scalars("von_mises", 1).with_data(self.fem.von_mises(s.u))];
+        let vtk = Vtk {
+            version: Version::new((1, 0)),
+            byte_order: ByteOrder::LittleEndian,
+            title: format!("{} t = {:.6e}", self.stem, s.t),
+            file_path: None,
+            data: DataSet::inline(UnstructuredGridPiece {
+                points: self.points.clone().into(),
+                cells: self.cells.clone(),
+                data: Attributes { point, cell },
+            }),
+        };
+        vtk.export(&path).map_err(|e| Error::Vtk {
+            path: path.clone(),
+            message: e.to_string(),
+        })?;
+        self.written.push((s.t, name));
+        self.write_collection()
+    }
+
+    /// The `.pvd` collection of the files written so far.
+    pub fn collection_path(&self) -> PathBuf {
+        self.dir.join(format!("{}.pvd", self.stem))
+    }
+
+    fn write_collection(&self) -> Result<()> {
+        let mut xml = String::from(
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" \
+             byte_order=\"LittleEndian\">\n  <Collection>\n",
+        );
+        for (t, file) in &self.written {
+            xml.push_str(&format!(
+                "    <DataSet timestep=\"{t:.12e}\" group=\"\" part=\"0\" file=\"{file}\"/>\n"
+            ));
+        }
+        xml.push_str("  </Collection>\n</VTKFile>\n");
+        let path = self.collection_path();
+        std::fs::write(&path, xml).map_err(|e| Error::io(&path, e))
+    }
+}
+
+/// A point or cell array of a `.vtu` file written by [`VtuSeries`], as f64 values.
+pub fn read_array(path: &Path, name: &str) -> Result<Vec<f64>> {
+    let err = |message: String| Error::Vtk {
+        path: path.to_path_buf(),
+        message,
+    };
+    let vtk = Vtk::import(path).map_err(|e| err(e.to_string()))?;
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        return Err(err("not an unstructured grid".into()));
+    };
+    let piece = pieces
+        .into_iter()
+        .next()
+        .ok_or_else(|| err("no piece".into()))?
+        .into_loaded_piece_data(None)
+        .map_err(|e| err(e.to_string()))?;
+    let data = piece.data;
+    data.point
+        .iter()
+        .chain(&data.cell)
+        .find_map(|a| match a {
+            Attribute::DataArray(arr) if arr.name == name => arr.data.clone().cast_into::<f64>(),
+            _ => None,
+        })
+        .ok_or_else(|| err(format!("no f64 array `{name}`")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every VTK node maps to a distinct local node, for every element family.
+    #[test]
+    fn vtk_order_is_a_permutation() {
+        for shape in [Shape::Simplex, Shape::Tensor] {
+            for dim in [2, 3] {
+                for degree in [1, 2] {
+                    let el = RefElement { shape, dim, degree };
+                    let (_, order) = vtk_order(&el);
+                    let mut sorted = order.clone();
+                    sorted.sort_unstable();
+                    assert_eq!(sorted, (0..el.n_nodes()).collect::<Vec<_>>(), "{el:?}");
+                }
+            }
+        }
+    }
+}
