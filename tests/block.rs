@@ -88,8 +88,8 @@ fn rigid_motions_have_zero_elastic_energy() {
     }
 }
 
-/// A linear displacement `u = A x` gives the exact constant stress `λ tr ε I + 2 μ ε` at every
-/// quadrature point of every cell, and `uᵀ K u = |Ω| σ : ε`.
+/// A linear displacement `u = A x` gives the exact constant stress `λ tr ε I + 2 μ ε` (plane
+/// strain in 2D: σ_zz = λ tr ε) at every quadrature point of every cell, and `uᵀ K u = |Ω| σ : ε`.
 #[test]
 fn linear_fields_give_the_exact_constant_stress() {
     let a = Matrix3::new(1e-3, 2e-3, -1e-3, 4e-4, -2e-3, 3e-3, 1e-3, 5e-4, 2e-3);
@@ -103,6 +103,10 @@ fn linear_fields_give_the_exact_constant_stress() {
         let mut sigma = eps * (2.0 * b.fem.lame.mu);
         for c in 0..d {
             sigma[(c, c)] += b.fem.lame.lambda * eps.trace();
+        }
+        if d == 2 {
+            // Plane strain: σ_zz = λ tr ε.
+            sigma[(2, 2)] = b.fem.lame.lambda * eps.trace();
         }
         let u = field(&b, |x| {
             let v = ad * nalgebra::Vector3::from(x);

@@ -14,7 +14,8 @@
 //! 𝒜 starts from the previous step's, and U from the cubic extrapolation
 //! `4U_n − 6U_{n−1} + 4U_{n−2} − U_{n−3}` of the previous solutions (error O(Δt⁴) on smooth
 //! motion; 9 CG iterations per step on block3d 32³ at Δt = 10⁻³, against 14 from the quadratic one).
-//! CG stops at `‖r‖₂ ≤` [`CG_TOLERANCE`] `‖b‖₂` (Jacobi preconditioner).
+//! CG stops at `‖r‖₂ ≤` [`CG_TOLERANCE`] `‖b‖₂`. Preconditioner: Jacobi, with the block of the
+//! massless dofs and their neighbours solved exactly ([`massless_neighbourhood`]).
 
 use crate::contact::SolveInfo;
 use crate::error::{Error, Result};
@@ -60,8 +61,9 @@ impl IterativeStep {
         let points = nodal_points(problem)?;
         let a = linalg::lin_comb(m_coef, m, k_coef, k)?;
         let n = a.nrows();
+        let block = massless_neighbourhood(m, k);
         Ok(Self {
-            pcg: Pcg::new(&a, "step matrix m·M + k·K")?,
+            pcg: Pcg::with_block(&a, "step matrix m·M + k·K", block)?,
             a,
             c,
             active: vec![false; points.len()],
@@ -178,6 +180,22 @@ impl IterativeStep {
         self.history[0].copy_from_slice(u);
         self.filled = (self.filled + 1).min(4);
     }
+}
+
+/// The dofs the preconditioner solves exactly: the massless dofs (mass redistribution's Γ_C
+/// normal dofs, `M_ii = 0`) and every dof K couples to them (the cells touching them, whose
+/// redistributed mass is far from diagonally dominant). Jacobi alone needs about 400 CG
+/// iterations per solve on `hertz3d`, 20 to 40 with this block (4 422 of 51 651 dofs); the
+/// standard mass has no massless dof and keeps plain Jacobi.
+fn massless_neighbourhood(m: &SpMat, k: &SpMat) -> Vec<usize> {
+    let mass = linalg::diagonal(m);
+    let mut block = vec![false; mass.len()];
+    for (i, j, _) in linalg::triplets(k) {
+        if mass[j] == 0.0 {
+            block[i] = true;
+        }
+    }
+    (0..mass.len()).filter(|&i| block[i]).collect()
 }
 
 /// `(A u)_d`: row d of the symmetric A is its column d.
