@@ -61,6 +61,17 @@ fn snapshot_text(r: &RunRecord) -> String {
             format!("restitution_eff: {}", opt(m.restitution_eff)),
             format!("impact_time_err: {}", opt(m.impact_time_err)),
         ]);
+        // Errors against Hertz (curved-body cases only, so that the others stay as they were).
+        let hertz = [
+            ("err_contact_duration", m.err_contact_duration),
+            ("err_peak_force", m.err_peak_force),
+            ("err_max_approach", m.err_max_approach),
+            ("err_contact_radius", m.err_contact_radius),
+            ("err_peak_pressure", m.err_peak_pressure),
+        ];
+        if hertz.iter().any(|h| h.1.is_some()) {
+            lines.extend(hertz.iter().map(|(k, v)| format!("{k}: {}", opt(*v))));
+        }
     }
     lines.join("\n")
 }
@@ -89,10 +100,11 @@ fn summary_metrics_of_every_combination_are_unchanged() {
             count += 1;
         }
     }
-    // bar1d 5 spaces × 8 schemes, block2d 5 × 2, block3d 5 × 1, spring_mass 7 schemes.
+    // bar1d 5 spaces × 8 schemes, block2d 5 × 2, block3d 5 × 1, spring_mass 7 schemes,
+    // hertz2d 3 spaces, hertz3d 2 + 1.
     assert_eq!(
         count,
-        5 * 8 + 5 * 2 + 5 + 7,
+        5 * 8 + 5 * 2 + 5 + 7 + 3 + 3,
         "one snapshot per case × space × scheme"
     );
 }

@@ -2,6 +2,7 @@
 //! runs or reports.
 
 pub mod csv;
+pub mod field_plot;
 pub mod plot;
 pub mod vtu;
 

@@ -52,7 +52,7 @@ pub const PALETTE: [RGBColor; 10] = [
     RGBColor(188, 189, 34),
 ];
 
-fn plot_err(path: &Path, e: impl std::fmt::Display) -> Error {
+pub(crate) fn plot_err(path: &Path, e: impl std::fmt::Display) -> Error {
     Error::Plot {
         path: path.to_path_buf(),
         message: e.to_string(),

@@ -23,7 +23,7 @@ pub struct Figure {
 }
 
 /// Plotted error quantities and their axis labels.
-const PLOTTED: [(&str, &str); 4] = [
+const PLOTTED: [(&str, &str); 8] = [
     ("err_u_linf_l2", "max_t ||u_h - u||_L2"),
     ("err_energy", "max_t |E_h - E| / E"),
     (
@@ -31,6 +31,16 @@ const PLOTTED: [(&str, &str); 4] = [
         "||sigma_h - sigma||_L2(0,T) at the contact point",
     ),
     ("impact_time_err", "first impact time error"),
+    ("err_contact_duration", "|t_c - Hertz| / Hertz"),
+    ("err_peak_force", "|F_max - Hertz| / Hertz"),
+    (
+        "err_contact_radius",
+        "|a - Hertz(F)| / Hertz(F) at peak force",
+    ),
+    (
+        "err_peak_pressure",
+        "|p0 - Hertz(F)| / Hertz(F) at peak force",
+    ),
 ];
 
 /// The space whose schemes are compared: mass redistribution when swept, else the first space.
@@ -153,8 +163,12 @@ pub fn convergence_figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figu
 /// per space, one curve per dt: the seed paper's figures side by side), or by default the first
 /// sweep at its third level (first with `quick`) with every space for the first scheme, or every
 /// scheme when the sweep has one space. Failed runs are left out and named in the caption.
+/// Curved-body impacts get their own figures instead ([`super::impact`]).
 pub fn time_histories(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> {
     let case = file.build(&Default::default())?;
+    if case.impact().is_some() {
+        return super::impact::impact_figures(file, out, quick);
+    }
     let kind = case.kind();
     if !case.histories().is_empty() {
         let mut figures = Vec::new();

@@ -107,9 +107,97 @@ fn blocks(records: &[RunRecord], orders: &[Order], figures: &[Figure], quick: bo
         let (header, rows) = order_table(orders, &case, &sweep);
         b.push(Body::Table(header, rows));
     }
+    b.extend(hertz_section(records));
     b.push(Body::Heading("Figures".into()));
     for f in figures {
         b.push(Body::Image(f.file.clone(), f.caption.clone()));
+    }
+    b
+}
+
+/// Relative errors against Hertz theory of every finished curved-body run, by case and sweep,
+/// and what changes between the two finest levels of each space (the plateau).
+fn hertz_section(records: &[RunRecord]) -> Vec<Body> {
+    let hertz = |r: &&RunRecord| {
+        r.status == Status::Ok
+            && (r.summary.metrics.err_contact_radius.is_some()
+                || r.summary.metrics.err_contact_duration.is_some())
+    };
+    let fmt = |x: Option<f64>| x.map_or_else(|| "-".to_string(), |v| format!("{v:.3e}"));
+    let mut b = Vec::new();
+    for ((case, sweep), rs) in group_by(records.iter().filter(hertz), |r| {
+        (r.summary.case.clone(), r.sweep.clone())
+    }) {
+        b.push(Body::Heading(format!(
+            "Against Hertz: {case}, sweep `{sweep}`"
+        )));
+        b.push(Body::Para(
+            "Relative errors against Hertz theory (shared/reference/hertz_impact.md): contact \
+             duration, peak force and maximum approach of the centre of mass (sphere only), and \
+             at peak force the contact radius (half-width) and peak pressure against Hertz for \
+             the computed force; restitution from the centre of mass after release."
+                .into(),
+        ));
+        let rows = rs
+            .iter()
+            .map(|r| {
+                let (s, m) = (&r.summary, &r.summary.metrics);
+                vec![
+                    s.space.clone(),
+                    format!("{:.3e}", s.h),
+                    format!("{}", s.dt),
+                    s.dofs.to_string(),
+                    fmt(m.err_contact_duration),
+                    fmt(m.err_peak_force),
+                    fmt(m.err_max_approach),
+                    fmt(m.err_contact_radius),
+                    fmt(m.err_peak_pressure),
+                    m.restitution_eff
+                        .map_or_else(|| "-".into(), |e| format!("{e:.4}")),
+                ]
+            })
+            .collect();
+        let header = [
+            "space",
+            "h",
+            "dt",
+            "dofs",
+            "t_c",
+            "F_max",
+            "δ_max",
+            "a",
+            "p0",
+            "restitution",
+        ];
+        b.push(Body::Table(header.map(String::from).to_vec(), rows));
+        let plateau: Vec<String> = group_by(rs.iter().copied(), |r| r.summary.space.clone())
+            .into_iter()
+            .filter_map(|(space, runs)| {
+                let [.., prev, last] = runs.as_slice() else {
+                    return None;
+                };
+                let (get, what): (fn(&RunRecord) -> Option<f64>, &str) =
+                    if last.summary.metrics.err_contact_duration.is_some() {
+                        (|r| r.summary.metrics.err_contact_duration, "t_c")
+                    } else {
+                        (|r| r.summary.metrics.err_contact_radius, "a")
+                    };
+                let (e1, e0) = (get(last)?, get(prev)?);
+                Some(format!(
+                    "{space}: {what} error {e1:.2e} at h = {:.3e}, {:+.2e} from h = {:.3e}",
+                    last.summary.h,
+                    e1 - e0,
+                    prev.summary.h
+                ))
+            })
+            .collect();
+        if !plateau.is_empty() {
+            b.push(Body::Para(format!(
+                "Finest two levels (a change much smaller than the error is the plateau: \
+                 Hertz's own model error, not the discretisation's): {}.",
+                plateau.join("; ")
+            )));
+        }
     }
     b
 }

@@ -14,6 +14,7 @@
 //! series) from record files written by `dyncontact sweep --shard i/n`.
 
 pub mod figures;
+pub mod impact;
 pub mod index;
 
 use crate::cases::{self, CaseFile};

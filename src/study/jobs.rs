@@ -223,7 +223,7 @@ pub fn run_job(job: &Job) -> RunRecord {
                 format!("energy exceeded {BLOWUP_FACTOR} × E(0)"),
                 summary,
             ),
-            Ok(RunResult { summary, rows }) => {
+            Ok(RunResult { summary, rows, .. }) => {
                 if case.exact().is_none() {
                     probe = rows
                         .iter()

@@ -29,8 +29,18 @@ pub fn fit_order(x: &[f64], y: &[f64]) -> (f64, f64) {
 /// Quantities whose observed orders are fitted, with their accessor.
 pub type Quantity = (&'static str, fn(&Metrics) -> Option<f64>);
 
-/// The fitted quantities: displacement, energy, contact stress and impact time errors.
-pub const QUANTITIES: [Quantity; 8] = [
+/// The errors against Hertz theory (curved-body cases): they reach a plateau, Hertz's own model
+/// error, rather than zero as h, dt → 0; their fitted slope says how flat it is.
+pub const HERTZ_QUANTITIES: [&str; 4] = [
+    "err_contact_duration",
+    "err_peak_force",
+    "err_contact_radius",
+    "err_peak_pressure",
+];
+
+/// The fitted quantities: displacement, energy, contact stress and impact time errors, and the
+/// errors against Hertz theory.
+pub const QUANTITIES: [Quantity; 12] = [
     ("err_u_linf_l2", |m| m.err_u_linf_l2),
     ("err_u_contact", |m| m.err_u_contact),
     ("err_u_l2_h1", |m| m.err_u_l2_h1),
@@ -39,6 +49,10 @@ pub const QUANTITIES: [Quantity; 8] = [
     ("impact_time_err", |m| m.impact_time_err),
     ("err_u_contact_ref", |m| m.err_u_contact_ref),
     ("err_sigma_l2_ref", |m| m.err_sigma_l2_ref),
+    ("err_contact_duration", |m| m.err_contact_duration),
+    ("err_peak_force", |m| m.err_peak_force),
+    ("err_contact_radius", |m| m.err_contact_radius),
+    ("err_peak_pressure", |m| m.err_peak_pressure),
 ];
 
 /// Slope of the reference triangle drawn on convergence plots of `quantity`.
@@ -98,6 +112,9 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
         let reference_of = |quantity: &str| -> String {
             if exact {
                 return "exact".into();
+            }
+            if HERTZ_QUANTITIES.contains(&quantity) {
+                return "Hertz theory".into();
             }
             if !quantity.ends_with("_ref") {
                 return "own finest level".into();

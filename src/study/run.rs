@@ -45,11 +45,34 @@ pub struct Summary {
     pub metrics: Metrics,
 }
 
+/// The state at the sample of largest total contact force (impact cases).
+#[derive(Debug, Clone, Default)]
+pub struct Peak {
+    /// Time.
+    pub t: f64,
+    /// Displacement.
+    pub u: Vec<f64>,
+    /// Nodal contact forces.
+    pub lambda: Vec<f64>,
+}
+
+impl Peak {
+    fn fill(&mut self, s: &State<'_>) {
+        self.t = s.t;
+        self.u.clear();
+        self.u.extend_from_slice(s.u);
+        self.lambda.clear();
+        self.lambda.extend_from_slice(s.lambda);
+    }
+}
+
 /// Result of [`run`].
 #[derive(Debug, Clone)]
 pub struct RunResult {
     /// Probe time series.
     pub rows: Vec<Row>,
+    /// The state at peak contact force (impact cases, else None).
+    pub peak: Option<Peak>,
     /// Summary.
     pub summary: Summary,
 }
@@ -129,7 +152,7 @@ pub fn run_with_output(
             let mut rows: Vec<Row> = Vec::with_capacity(steps + 1);
             let mut errors = Vec::with_capacity(if field.is_some() { steps + 1 } else { 0 });
             // The nodal forces at the sample of largest total force (impact cases).
-            let (mut peak, mut f_peak) = (Vec::new(), 0.0);
+            let (mut peak, mut f_peak) = (Peak::default(), 0.0);
             for (index, snap) in rx.into_iter().enumerate() {
                 let s = snap.state();
                 if let Some(out) = vtu.as_mut() {
@@ -146,8 +169,7 @@ pub fn run_with_output(
                 let row = probe_row(problem, &mut probe, &s, exact);
                 if probe.centre.is_some() && row.force_contact > f_peak {
                     f_peak = row.force_contact;
-                    peak.clear();
-                    peak.extend_from_slice(s.lambda);
+                    peak.fill(&s);
                 }
                 rows.push(row);
                 if let Some(f) = field {
@@ -193,10 +215,16 @@ pub fn run_with_output(
         exact.and_then(|e| e.first_impact()),
     );
     if let Some(i) = &impact {
-        metrics::hertz(&mut metrics, &rows, (&peak, &problem.contact.area), i);
+        metrics::hertz(
+            &mut metrics,
+            &rows,
+            (&peak.lambda, &problem.contact.area),
+            i,
+        );
     }
     Ok(RunResult {
         rows,
+        peak: impact.is_some().then_some(peak),
         summary: Summary {
             case: case.kind().to_string(),
             space: space.name().to_string(),
