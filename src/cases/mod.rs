@@ -70,6 +70,21 @@ pub struct Impact {
     pub positions: Vec<[f64; 3]>,
 }
 
+impl Impact {
+    /// The centre of pressure `Σ λ_i x_i / Σ λ_i` (tangential coordinates, unused ones 0) of
+    /// the nodal contact forces λ, and the total force `Σ λ_i`.
+    pub fn centre_of_pressure(&self, lambda: &[f64]) -> ([f64; 2], f64) {
+        let force: f64 = lambda.iter().sum();
+        let mut c = [0.0; 2];
+        for (l, x) in lambda.iter().zip(&self.positions) {
+            for (ck, xk) in c.iter_mut().zip(&x[..self.hertz.dim - 1]) {
+                *ck += l * xk / force;
+            }
+        }
+        (c, force)
+    }
+}
+
 /// The `[run]` table: default discretisation choices.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]

@@ -52,164 +52,158 @@ pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Fi
         "{} + {} ({}), h = {:.3e}, dt = {}",
         s.space, s.scheme, s.parameters, s.h, s.dt
     );
-    let mut figures = vec![force_figure(out, kind, &r.rows, &impact, &setting)?];
-    figures.push(pressure_figure(out, kind, fem, peak, &impact, &setting)?);
+    let shot = Shot {
+        out,
+        kind,
+        fem,
+        peak,
+        impact: &impact,
+        setting,
+    };
+    let mut figures = vec![shot.force(&r.rows)?, shot.pressure()?];
     if fem.dim() == 2 {
-        figures.push(von_mises_figure(out, kind, fem, peak, &impact, &setting)?);
+        figures.push(shot.von_mises()?);
     }
     Ok(figures)
 }
 
-fn force_figure(
-    out: &Path,
-    kind: &str,
-    rows: &[crate::study::trajectory::Row],
-    impact: &Impact,
-    setting: &str,
-) -> Result<Figure> {
-    let computed: Vec<(f64, f64)> = rows.iter().map(|r| (r.t, r.force_contact)).collect();
-    let mut series = vec![Series::solid("computed", computed, PALETTE[0])];
-    let hertz = impact.hertz.force_history(HERTZ_SAMPLES);
-    if let Some(h) = &hertz {
-        series.push(Series::dashed("Hertz (quasi-static)", h.clone(), BLACK));
-    }
-    let name = format!("{kind}_force.png");
-    time_plot(
-        &out.join(&name),
-        &format!("{kind}: total contact force, {setting}"),
-        "contact force",
-        &series,
-    )?;
-    Ok(Figure {
-        file: name,
-        caption: format!(
-            "{kind}: total contact force against time ({setting}){}.",
-            if hertz.is_some() {
-                ", Hertz's quasi-static force history dashed"
-            } else {
-                " (a disc has no closed-form force history)"
-            }
-        ),
-    })
+/// What the figures of one impact run are drawn from.
+struct Shot<'a> {
+    out: &'a Path,
+    kind: &'a str,
+    fem: &'a Discretisation,
+    peak: &'a Peak,
+    impact: &'a Impact,
+    /// Space, scheme, h and dt, for titles and captions.
+    setting: String,
 }
 
-/// The force-weighted centre of the contact (tangential coordinates) and the total force.
-fn contact_centre(lambda: &[f64], impact: &Impact) -> ([f64; 2], f64) {
-    let force: f64 = lambda.iter().sum();
-    let mut c = [0.0; 2];
-    for (l, x) in lambda.iter().zip(&impact.positions) {
-        for k in 0..impact.hertz.dim - 1 {
-            c[k] += l * x[k] / force;
+impl Shot<'_> {
+    fn force(&self, rows: &[crate::study::trajectory::Row]) -> Result<Figure> {
+        let (out, kind, impact, setting) = (self.out, self.kind, self.impact, &self.setting);
+        let computed: Vec<(f64, f64)> = rows.iter().map(|r| (r.t, r.force_contact)).collect();
+        let mut series = vec![Series::solid("computed", computed, PALETTE[0])];
+        let hertz = impact.hertz.force_history(HERTZ_SAMPLES);
+        if let Some(h) = &hertz {
+            series.push(Series::dashed("Hertz (quasi-static)", h.clone(), BLACK));
         }
+        let name = format!("{kind}_force.png");
+        time_plot(
+            &out.join(&name),
+            &format!("{kind}: total contact force, {setting}"),
+            "contact force",
+            &series,
+        )?;
+        Ok(Figure {
+            file: name,
+            caption: format!(
+                "{kind}: total contact force against time ({setting}){}.",
+                if hertz.is_some() {
+                    ", Hertz's quasi-static force history dashed"
+                } else {
+                    " (a disc has no closed-form force history)"
+                }
+            ),
+        })
     }
-    (c, force)
-}
 
-fn pressure_figure(
-    out: &Path,
-    kind: &str,
-    fem: &Discretisation,
-    peak: &Peak,
-    impact: &Impact,
-    setting: &str,
-) -> Result<Figure> {
-    let (c, force) = contact_centre(&peak.lambda, impact);
-    let tangential = impact.hertz.dim - 1;
-    let points: Vec<(f64, f64)> = fem
-        .contact_vertices
-        .iter()
-        .zip(&peak.lambda)
-        .zip(&impact.positions)
-        .map(|((&(_, area), l), x)| {
-            let r = (0..tangential)
-                .map(|k| (x[k] - c[k]).powi(2))
-                .sum::<f64>()
-                .sqrt();
-            (r, l / area)
-        })
-        .filter(|p| p.1 > 0.0 || p.0 <= 2.0 * impact.hertz.contact_radius(force))
-        .collect();
-    let (a, p0) = (
-        impact.hertz.contact_radius(force),
-        impact.hertz.peak_pressure(force),
-    );
-    let profile: Vec<(f64, f64)> = (0..=200)
-        .map(|k| {
-            let r = a * k as f64 / 200.0;
-            (r, p0 * (1.0 - (r / a).powi(2)).max(0.0).sqrt())
-        })
-        .collect();
-    let name = format!("{kind}_pressure.png");
-    scatter_plot(
-        &out.join(&name),
-        (
-            &format!("{kind}: contact pressure at peak force (t = {:.3})", peak.t),
-            "distance from the contact centre",
-            "contact pressure",
-        ),
-        ("computed (Γ_C vertices)", &points),
-        &[Series::dashed(
-            format!("Hertz for F = {force:.4e}: a = {a:.4}, p0 = {p0:.4}"),
-            profile,
-            BLACK,
-        )],
-    )?;
-    Ok(Figure {
-        file: name,
-        caption: format!(
-            "{kind}: pressure of every Γ_C vertex at peak force against its distance from the \
+    fn pressure(&self) -> Result<Figure> {
+        let (out, kind, fem, peak, impact) =
+            (self.out, self.kind, self.fem, self.peak, self.impact);
+        let setting = &self.setting;
+        let (c, force) = impact.centre_of_pressure(&peak.lambda);
+        let tangential = impact.hertz.dim - 1;
+        let points: Vec<(f64, f64)> = fem
+            .contact_vertices
+            .iter()
+            .zip(&peak.lambda)
+            .zip(&impact.positions)
+            .map(|((&(_, area), l), x)| {
+                let r = (0..tangential)
+                    .map(|k| (x[k] - c[k]).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                (r, l / area)
+            })
+            .filter(|p| p.1 > 0.0 || p.0 <= 2.0 * impact.hertz.contact_radius(force))
+            .collect();
+        let (a, p0) = (
+            impact.hertz.contact_radius(force),
+            impact.hertz.peak_pressure(force),
+        );
+        let profile: Vec<(f64, f64)> = (0..=200)
+            .map(|k| {
+                let r = a * k as f64 / 200.0;
+                (r, p0 * (1.0 - (r / a).powi(2)).max(0.0).sqrt())
+            })
+            .collect();
+        let name = format!("{kind}_pressure.png");
+        scatter_plot(
+            &out.join(&name),
+            (
+                &format!("{kind}: contact pressure at peak force (t = {:.3})", peak.t),
+                "distance from the contact centre",
+                "contact pressure",
+            ),
+            ("computed (Γ_C vertices)", &points),
+            &[Series::dashed(
+                format!("Hertz for F = {force:.4e}: a = {a:.4}, p0 = {p0:.4}"),
+                profile,
+                BLACK,
+            )],
+        )?;
+        Ok(Figure {
+            file: name,
+            caption: format!(
+                "{kind}: pressure of every Γ_C vertex at peak force against its distance from the \
              contact centre ({setting}), Hertz's profile for the computed force dashed."
-        ),
-    })
-}
-
-fn von_mises_figure(
-    out: &Path,
-    kind: &str,
-    fem: &Discretisation,
-    peak: &Peak,
-    impact: &Impact,
-    setting: &str,
-) -> Result<Figure> {
-    let (c, force) = contact_centre(&peak.lambda, impact);
-    let window = ZOOM * impact.hertz.contact_radius(force);
-    let stress = fem.von_mises(&peak.u);
-    let (_, order) = vtk_order(&fem.mesh.element);
-    let corners = &order[..fem.mesh.element.vertices().len()];
-    let d = fem.dim();
-    let cells: Vec<Cell> = fem
-        .mesh
-        .connectivity
-        .iter()
-        .zip(&stress)
-        .filter_map(|(cell, &v)| {
-            let poly: Vec<(f64, f64)> = corners
-                .iter()
-                .map(|&a| {
-                    let i = cell[a];
-                    let x = fem.mesh.nodes[i];
-                    (x[0] + peak.u[i * d], x[1] + peak.u[i * d + 1])
-                })
-                .collect();
-            let inside = poly
-                .iter()
-                .all(|p| (p.0 - c[0]).abs() <= window && p.1 <= window);
-            inside.then_some((poly, v))
+            ),
         })
-        .collect();
-    if cells.is_empty() {
-        return Err(Error::Unsupported(format!(
-            "{kind}: no cell within {window:.3e} of the contact for the von Mises picture"
-        )));
     }
-    let name = format!("{kind}_von_mises.png");
-    cell_map(
-        &out.join(&name),
-        &format!("{kind}: von Mises stress at peak force (t = {:.3})", peak.t),
-        "von Mises stress",
-        &cells,
-    )?;
-    Ok(Figure {
+
+    fn von_mises(&self) -> Result<Figure> {
+        let (out, kind, fem, peak, impact) =
+            (self.out, self.kind, self.fem, self.peak, self.impact);
+        let setting = &self.setting;
+        let (c, force) = impact.centre_of_pressure(&peak.lambda);
+        let window = ZOOM * impact.hertz.contact_radius(force);
+        let stress = fem.von_mises(&peak.u);
+        let (_, order) = vtk_order(&fem.mesh.element);
+        let corners = &order[..fem.mesh.element.vertices().len()];
+        let d = fem.dim();
+        let cells: Vec<Cell> = fem
+            .mesh
+            .connectivity
+            .iter()
+            .zip(&stress)
+            .filter_map(|(cell, &v)| {
+                let poly: Vec<(f64, f64)> = corners
+                    .iter()
+                    .map(|&a| {
+                        let i = cell[a];
+                        let x = fem.mesh.nodes[i];
+                        (x[0] + peak.u[i * d], x[1] + peak.u[i * d + 1])
+                    })
+                    .collect();
+                let inside = poly
+                    .iter()
+                    .all(|p| (p.0 - c[0]).abs() <= window && p.1 <= window);
+                inside.then_some((poly, v))
+            })
+            .collect();
+        if cells.is_empty() {
+            return Err(Error::Unsupported(format!(
+                "{kind}: no cell within {window:.3e} of the contact for the von Mises picture"
+            )));
+        }
+        let name = format!("{kind}_von_mises.png");
+        cell_map(
+            &out.join(&name),
+            &format!("{kind}: von Mises stress at peak force (t = {:.3})", peak.t),
+            "von Mises stress",
+            &cells,
+        )?;
+        Ok(Figure {
         file: name,
         caption: format!(
             "{kind}: the body within {ZOOM} contact half-widths of the contact at peak force, \
@@ -217,4 +211,5 @@ fn von_mises_figure(
              ({setting}); Hertz's line contact puts the largest shear stress, 0.30 p0, at a depth 0.78 b."
         ),
     })
+    }
 }

@@ -182,9 +182,7 @@ pub fn hertz(m: &mut Metrics, rows: &[Row], (lambda, area): (&[f64], &[f64]), im
     if force > 0.0 && lambda.len() == impact.positions.len() {
         let tangential = h.dim - 1;
         let x = &impact.positions;
-        let centre: Vec<f64> = (0..tangential)
-            .map(|k| lambda.iter().zip(x).map(|(l, p)| l * p[k]).sum::<f64>() / force)
-            .collect();
+        let (centre, _) = impact.centre_of_pressure(lambda);
         let moment = lambda
             .iter()
             .zip(x)
