@@ -58,6 +58,7 @@ pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Fi
         fem,
         peak,
         impact: &impact,
+        space: &s.space,
         setting,
     };
     let mut figures = vec![shot.force(&r.rows)?, shot.pressure()?];
@@ -74,7 +75,9 @@ struct Shot<'a> {
     fem: &'a Discretisation,
     peak: &'a Peak,
     impact: &'a Impact,
-    /// Space, scheme, h and dt, for titles and captions.
+    /// The space, for titles.
+    space: &'a str,
+    /// Space, scheme, h and dt, for captions.
     setting: String,
 }
 
@@ -90,7 +93,7 @@ impl Shot<'_> {
         let name = format!("{kind}_force.png");
         time_plot(
             &out.join(&name),
-            &format!("{kind}: total contact force, {setting}"),
+            &format!("{kind}: total contact force ({})", self.space),
             "contact force",
             &series,
         )?;
