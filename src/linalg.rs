@@ -1069,8 +1069,10 @@ impl SymOperator {
     }
 }
 
-/// Jacobi-preconditioned conjugate gradients for an SPD matrix, with workspaces kept between
-/// solves (Hestenes–Stiefel 1952; the preconditioner `P = diag(A)`).
+/// Preconditioned conjugate gradients for an SPD matrix, with workspaces kept between solves
+/// (Hestenes–Stiefel 1952). The preconditioner is `P = diag(A)` (Jacobi), or
+/// `P = blockdiag(A_SS, diag(A))` with a principal block factored ([`Pcg::with_block`]); with
+/// fixed entries it acts on the free ones only (`Π P⁻¹ Π`, still SPD on that subspace).
 #[derive(Debug)]
 pub struct Pcg {
     op: SymOperator,
