@@ -9,7 +9,11 @@ use std::hint::black_box;
 use std::path::Path;
 
 fn cases_at_two_sizes(c: &mut Criterion) {
-    for file in ["cases/bar1d.toml", "cases/spring_mass.toml"] {
+    for file in [
+        "cases/bar1d.toml",
+        "cases/spring_mass.toml",
+        "cases/hertz2d.toml",
+    ] {
         let path = Path::new(file);
         let base = cases::load(path, &Overrides::default()).expect("valid case");
         let sweep = &base.sweeps()[0];

@@ -2,7 +2,7 @@
 //! assembled, prepared, stepped, metrics, `timeseries.csv`, `summary.csv` and both PNGs written),
 //! with the measured time and its ratio to the target:
 //!
-//!     cargo bench --bench targets            # all three (about 2 minutes)
+//!     cargo bench --bench targets            # all five (about 3 minutes)
 //!     cargo bench --bench targets -- bar1d   # the ones whose name contains `bar1d`
 //!
 //! Each target runs once (the heavy ones take close to a minute; criterion's ten samples would
@@ -52,6 +52,21 @@ fn targets() -> Vec<Target> {
             name: "block3d Q1 32^3 MR Newmark, dt 1e-3, 1e3 steps",
             file: "cases/block3d.toml",
             overrides: o("mass_redistribution", 32, 1e-3, 1.0),
+            limit: 60.0,
+            repeat: 1,
+        },
+        // The curved bodies at their defaults (issue 9: each under a minute).
+        Target {
+            name: "hertz2d disc Q1 n 48 (14k dofs), defaults",
+            file: "cases/hertz2d.toml",
+            overrides: Overrides::default(),
+            limit: 60.0,
+            repeat: 1,
+        },
+        Target {
+            name: "hertz3d sphere Q1 n 16 (52k dofs), defaults",
+            file: "cases/hertz3d.toml",
+            overrides: Overrides::default(),
             limit: 60.0,
             repeat: 1,
         },
