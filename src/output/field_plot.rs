@@ -56,8 +56,8 @@ pub fn cell_map(path: &Path, title: &str, value_label: &str, cells: &[Cell]) -> 
     let mut legend = ChartBuilder::on(&bar)
         .margin_top(50)
         .margin_bottom(55)
-        .margin_right(70)
-        .y_label_area_size(90)
+        .margin_left(10)
+        .right_y_label_area_size(90)
         .build_cartesian_2d(0.0..1.0, 0.0..scale)
         .map_err(|e| err(&e))?;
     legend

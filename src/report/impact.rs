@@ -6,7 +6,9 @@
 //!   against its distance from the contact centre, with Hertz's profile `p₀ √(1 − r²/a²)` for
 //!   the computed force dashed;
 //! - `<case>_von_mises.png` (2D): the body near the contact, deformed (true scale) and coloured
-//!   by the von Mises stress at peak force: Hertz's subsurface maximum below the contact.
+//!   by the von Mises stress at peak force: Hertz's subsurface maximum below the contact;
+//! - `<case>_pressure_map.png` (3D): the Γ_C faces within two contact radii, seen from the
+//!   plane, coloured by the mean pressure of their vertices at peak force.
 
 use super::figures::Figure;
 use crate::cases::{CaseFile, Impact, Overrides};
@@ -62,9 +64,11 @@ pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Fi
         setting,
     };
     let mut figures = vec![shot.force(&r.rows)?, shot.pressure()?];
-    if fem.dim() == 2 {
-        figures.push(shot.von_mises()?);
-    }
+    figures.push(if fem.dim() == 2 {
+        shot.von_mises()?
+    } else {
+        shot.pressure_map()?
+    });
     Ok(figures)
 }
 
@@ -214,5 +218,58 @@ impl Shot<'_> {
              ({setting}); Hertz's line contact puts the largest shear stress, 0.30 p0, at a depth 0.78 b."
         ),
     })
+    }
+
+    fn pressure_map(&self) -> Result<Figure> {
+        let (fem, peak, impact, kind) = (self.fem, self.peak, self.impact, self.kind);
+        let (c, force) = impact.centre_of_pressure(&peak.lambda);
+        let window = 2.0 * impact.hertz.contact_radius(force);
+        let pressure = fem.contact_pressure(&peak.lambda);
+        let on_contact = {
+            let mut flag = vec![false; fem.mesh.nodes.len()];
+            for &(i, _) in &fem.contact_vertices {
+                flag[i] = true;
+            }
+            flag
+        };
+        let cells: Vec<Cell> = fem
+            .mesh
+            .boundary_faces()
+            .into_iter()
+            .filter(|f| f.vertices.iter().all(|&i| on_contact[i]))
+            .filter_map(|f| {
+                let poly: Vec<(f64, f64)> = f
+                    .vertices
+                    .iter()
+                    .map(|&i| (fem.mesh.nodes[i][0], fem.mesh.nodes[i][1]))
+                    .collect();
+                let inside = poly
+                    .iter()
+                    .all(|p| (p.0 - c[0]).abs() <= window && (p.1 - c[1]).abs() <= window);
+                let mean =
+                    f.vertices.iter().map(|&i| pressure[i]).sum::<f64>() / f.vertices.len() as f64;
+                inside.then_some((poly, mean))
+            })
+            .collect();
+        let name = format!("{kind}_pressure_map.png");
+        cell_map(
+            &self.out.join(&name),
+            &format!(
+                "{kind}: contact pressure on Γ_C at peak force (t = {:.3})",
+                peak.t
+            ),
+            "contact pressure",
+            &cells,
+        )?;
+        Ok(Figure {
+            file: name,
+            caption: format!(
+                "{kind}: the Γ_C faces within two Hertz contact radii of the contact centre, seen \
+                 from the plane (undeformed x, y), coloured by the mean pressure of their vertices \
+                 at peak force ({}); Hertz's contact is the disc of radius {:.4}.",
+                self.setting,
+                impact.hertz.contact_radius(force)
+            ),
+        })
     }
 }
