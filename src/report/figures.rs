@@ -77,8 +77,7 @@ pub fn convergence_figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figu
             if quantity == "impact_time_err" && x_label == "h" {
                 continue;
             }
-            let get = orders::QUANTITIES
-                .iter()
+            let get = orders::quantities()
                 .find(|q| q.0 == quantity)
                 .map(|q| q.1)
                 .expect("plotted quantities are fitted quantities");

@@ -51,6 +51,56 @@ pub struct Metrics {
     pub err_peak_pressure: Option<f64>,
 }
 
+/// One metric column of `summary.csv`: its name, and how to read and set it (`None` is an empty
+/// field; a metric that always applies reads and writes NaN for a run that did not finish).
+#[derive(Debug, Clone, Copy)]
+pub struct MetricColumn {
+    /// Column name (the field's name).
+    pub name: &'static str,
+    /// The value, None where it does not apply.
+    pub get: fn(&Metrics) -> Option<f64>,
+    /// Sets the value read back (an absent value of an always-applying metric is NaN).
+    pub set: fn(&mut Metrics, Option<f64>),
+}
+
+/// The table of metric columns from the fields: `name: value` (an f64 field) or
+/// `name: optional` (an `Option<f64>` field).
+macro_rules! metric_columns {
+    ($($name:ident: $kind:ident),* $(,)?) => {
+        &[$(MetricColumn {
+            name: stringify!($name),
+            get: |m| metric_columns!(@get $kind, m.$name),
+            set: |m, v| metric_columns!(@set $kind, m.$name, v),
+        }),*]
+    };
+    (@get value, $field:expr) => { Some($field) };
+    (@get optional, $field:expr) => { $field };
+    (@set value, $field:expr, $v:expr) => { $field = $v.unwrap_or(f64::NAN) };
+    (@set optional, $field:expr, $v:expr) => { $field = $v };
+}
+
+/// The metric columns of `summary.csv`, in order (DESIGN.md §6; the Hertz ones last).
+pub const METRIC_COLUMNS: &[MetricColumn] = metric_columns![
+    energy_drift: value,
+    energy_ratio: value,
+    max_penetration: value,
+    err_u_linf_l2: optional,
+    err_u_l2_h1: optional,
+    err_sigma_l2: optional,
+    err_energy: optional,
+    err_u_contact: optional,
+    sigma_total_variation: value,
+    restitution_eff: optional,
+    impact_time_err: optional,
+    err_u_contact_ref: optional,
+    err_sigma_l2_ref: optional,
+    err_contact_duration: optional,
+    err_peak_force: optional,
+    err_max_approach: optional,
+    err_contact_radius: optional,
+    err_peak_pressure: optional,
+];
+
 impl Metrics {
     /// Metrics of a run that did not finish: NaN or absent everywhere.
     pub fn unavailable() -> Self {

@@ -3,7 +3,7 @@
 //! residual of the fit and the value expected from the literature where known.
 
 use super::jobs::{RunRecord, Status};
-use super::metrics::Metrics;
+use super::metrics::{Metrics, METRIC_COLUMNS};
 use super::reference::{common_reference, Series};
 use crate::error::Result;
 use crate::util::group_by;
@@ -38,22 +38,32 @@ pub const HERTZ_QUANTITIES: [&str; 4] = [
     "err_peak_pressure",
 ];
 
-/// The fitted quantities: displacement, energy, contact stress and impact time errors, and the
-/// errors against Hertz theory.
-pub const QUANTITIES: [Quantity; 12] = [
-    ("err_u_linf_l2", |m| m.err_u_linf_l2),
-    ("err_u_contact", |m| m.err_u_contact),
-    ("err_u_l2_h1", |m| m.err_u_l2_h1),
-    ("err_energy", |m| m.err_energy),
-    ("err_sigma_l2", |m| m.err_sigma_l2),
-    ("impact_time_err", |m| m.impact_time_err),
-    ("err_u_contact_ref", |m| m.err_u_contact_ref),
-    ("err_sigma_l2_ref", |m| m.err_sigma_l2_ref),
-    ("err_contact_duration", |m| m.err_contact_duration),
-    ("err_peak_force", |m| m.err_peak_force),
-    ("err_contact_radius", |m| m.err_contact_radius),
-    ("err_peak_pressure", |m| m.err_peak_pressure),
+/// The fitted quantities (metric columns): displacement, energy, contact stress and impact time
+/// errors, and the errors against Hertz theory.
+pub const FITTED: [&str; 12] = [
+    "err_u_linf_l2",
+    "err_u_contact",
+    "err_u_l2_h1",
+    "err_energy",
+    "err_sigma_l2",
+    "impact_time_err",
+    "err_u_contact_ref",
+    "err_sigma_l2_ref",
+    "err_contact_duration",
+    "err_peak_force",
+    "err_contact_radius",
+    "err_peak_pressure",
 ];
+
+/// The fitted quantities with their accessors, in [`FITTED`] order.
+pub fn quantities() -> impl Iterator<Item = Quantity> {
+    FITTED.into_iter().filter_map(|name| {
+        METRIC_COLUMNS
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| (c.name, c.get))
+    })
+}
 
 /// Slope of the reference triangle drawn on convergence plots of `quantity`.
 pub fn reference_slope(quantity: &str) -> f64 {
@@ -127,7 +137,7 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
                     format!("{sp} {sc} ({pa}) finest level")
                 })
         };
-        for (quantity, get) in QUANTITIES {
+        for (quantity, get) in quantities() {
             let pts: Vec<(f64, f64)> = runs
                 .iter()
                 .filter(|r| r.status == Status::Ok)
@@ -195,4 +205,15 @@ pub fn write_orders(path: &Path, orders: &[Order]) -> Result<()> {
             ]
         }),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every fitted quantity is a metric column (a misspelt name would drop it silently).
+    #[test]
+    fn every_fitted_quantity_is_a_metric_column() {
+        assert_eq!(quantities().count(), FITTED.len());
+    }
 }

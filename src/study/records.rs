@@ -2,8 +2,8 @@
 //! `dyncontact merge`), and `timings.csv` with the only non-deterministic columns.
 
 use super::jobs::{RunRecord, Status};
-use super::metrics::Metrics;
-use super::run::{summary_record, Summary, SUMMARY_COLUMNS};
+use super::metrics::{Metrics, METRIC_COLUMNS};
+use super::run::{summary_columns, summary_record, Summary};
 use crate::error::{Error, Result};
 use crate::output::csv::write_rows;
 use std::path::Path;
@@ -19,9 +19,9 @@ const WALL_TIME: &str = "wall_time_s";
 pub fn record_header(with_timing: bool) -> Vec<&'static str> {
     let mut header = RECORD_COLUMNS.to_vec();
     header.extend(
-        SUMMARY_COLUMNS
-            .iter()
-            .filter(|c| with_timing || **c != WALL_TIME),
+        summary_columns()
+            .into_iter()
+            .filter(|c| with_timing || *c != WALL_TIME),
     );
     header
 }
@@ -37,8 +37,8 @@ pub fn record_fields(r: &RunRecord, with_timing: bool) -> Vec<String> {
     v.extend(
         summary_record(&r.summary)
             .into_iter()
-            .zip(SUMMARY_COLUMNS)
-            .filter(|(_, c)| with_timing || **c != WALL_TIME)
+            .zip(summary_columns())
+            .filter(|(_, c)| with_timing || *c != WALL_TIME)
             .map(|(x, _)| x),
     );
     v
@@ -118,11 +118,7 @@ pub fn read_keyed<R: std::io::Read>(
     };
     let header = reader.headers().map_err(|e| err(e.to_string()))?.clone();
     let col = |name: &str| header.iter().position(|h| h == name);
-    for needed in RECORD_COLUMNS
-        .iter()
-        .chain(SUMMARY_COLUMNS)
-        .filter(|c| **c != WALL_TIME)
-    {
+    for needed in record_header(false) {
         if col(needed).is_none() {
             return Err(err(format!("missing column `{needed}`")));
         }
@@ -148,6 +144,10 @@ pub fn read_keyed<R: std::io::Read>(
         };
         let nan = |x: Option<f64>| x.unwrap_or(f64::NAN);
         let status = Status::parse(&text("status")).ok_or_else(|| err(at("status")))?;
+        let mut metrics = Metrics::default();
+        for c in METRIC_COLUMNS {
+            (c.set)(&mut metrics, float(c.name)?);
+        }
         out.push((
             text("key"),
             RunRecord {
@@ -167,26 +167,7 @@ pub fn read_keyed<R: std::io::Read>(
                     contact_iterations: count("contact_iterations")?,
                     wall_time: float(WALL_TIME)?.unwrap_or(0.0),
                     max_rss: f64::NAN,
-                    metrics: Metrics {
-                        energy_drift: nan(float("energy_drift")?),
-                        energy_ratio: nan(float("energy_ratio")?),
-                        max_penetration: nan(float("max_penetration")?),
-                        err_u_linf_l2: float("err_u_linf_l2")?,
-                        err_u_l2_h1: float("err_u_l2_h1")?,
-                        err_sigma_l2: float("err_sigma_l2")?,
-                        err_energy: float("err_energy")?,
-                        err_u_contact: float("err_u_contact")?,
-                        sigma_total_variation: nan(float("sigma_total_variation")?),
-                        restitution_eff: float("restitution_eff")?,
-                        impact_time_err: float("impact_time_err")?,
-                        err_u_contact_ref: float("err_u_contact_ref")?,
-                        err_sigma_l2_ref: float("err_sigma_l2_ref")?,
-                        err_contact_duration: float("err_contact_duration")?,
-                        err_peak_force: float("err_peak_force")?,
-                        err_max_approach: float("err_max_approach")?,
-                        err_contact_radius: float("err_contact_radius")?,
-                        err_peak_pressure: float("err_peak_pressure")?,
-                    },
+                    metrics,
                 },
                 probe: Vec::new(),
             },

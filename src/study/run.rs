@@ -1,7 +1,7 @@
 //! One run: case × space × scheme × (h, dt) → time series at the contact probe and summary metrics,
 //! written as `timeseries.csv`, `summary.csv`, `energy.png` and `contact.png`.
 
-use super::metrics::{self, Metrics};
+use super::metrics::{self, Metrics, METRIC_COLUMNS};
 use super::trajectory::{self, Row};
 use crate::cases::Case;
 use crate::error::{Error, Result};
@@ -370,8 +370,8 @@ fn probe_row(
     }
 }
 
-/// Columns of `summary.csv`.
-pub const SUMMARY_COLUMNS: &[&str] = &[
+/// Columns of `summary.csv` before the metrics.
+pub const RUN_COLUMNS: &[&str] = &[
     "case",
     "space",
     "scheme",
@@ -382,29 +382,19 @@ pub const SUMMARY_COLUMNS: &[&str] = &[
     "steps",
     "contact_iterations",
     "wall_time_s",
-    "energy_drift",
-    "energy_ratio",
-    "max_penetration",
-    "err_u_linf_l2",
-    "err_u_l2_h1",
-    "err_sigma_l2",
-    "err_energy",
-    "err_u_contact",
-    "sigma_total_variation",
-    "restitution_eff",
-    "impact_time_err",
-    "err_u_contact_ref",
-    "err_sigma_l2_ref",
-    "err_contact_duration",
-    "err_peak_force",
-    "err_max_approach",
-    "err_contact_radius",
-    "err_peak_pressure",
 ];
 
-/// The fields of one summary row, in [`SUMMARY_COLUMNS`] order.
+/// Columns of `summary.csv`: [`RUN_COLUMNS`], then the metrics' [`METRIC_COLUMNS`].
+pub fn summary_columns() -> Vec<&'static str> {
+    RUN_COLUMNS
+        .iter()
+        .copied()
+        .chain(METRIC_COLUMNS.iter().map(|c| c.name))
+        .collect()
+}
+
+/// The fields of one summary row, in [`summary_columns`] order.
 pub fn summary_record(s: &Summary) -> Vec<String> {
-    let m = &s.metrics;
     let mut v = vec![
         s.case.clone(),
         s.space.clone(),
@@ -418,35 +408,16 @@ pub fn summary_record(s: &Summary) -> Vec<String> {
         format!("{:.6e}", s.wall_time),
     ];
     v.extend(
-        [
-            Some(m.energy_drift),
-            Some(m.energy_ratio),
-            Some(m.max_penetration),
-            m.err_u_linf_l2,
-            m.err_u_l2_h1,
-            m.err_sigma_l2,
-            m.err_energy,
-            m.err_u_contact,
-            Some(m.sigma_total_variation),
-            m.restitution_eff,
-            m.impact_time_err,
-            m.err_u_contact_ref,
-            m.err_sigma_l2_ref,
-            m.err_contact_duration,
-            m.err_peak_force,
-            m.err_max_approach,
-            m.err_contact_radius,
-            m.err_peak_pressure,
-        ]
-        .into_iter()
-        .map(fmt_float),
+        METRIC_COLUMNS
+            .iter()
+            .map(|c| fmt_float((c.get)(&s.metrics))),
     );
     v
 }
 
 /// Writes `summary.csv` with one row per run.
 pub fn write_summary(path: &Path, runs: &[Summary]) -> Result<()> {
-    write_rows(path, SUMMARY_COLUMNS, runs.iter().map(summary_record))
+    write_rows(path, &summary_columns(), runs.iter().map(summary_record))
 }
 
 /// Writes `timeseries.csv`, `summary.csv`, `energy.png` and `contact.png` of a run into `dir`.
