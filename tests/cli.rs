@@ -126,6 +126,19 @@ fn bad_command_line_values_give_clear_errors() {
         &dyncontact(&["run", "cases/bar1d.toml", "--vtu", o, "--out", o]),
         "needs a 2D/3D body case",
     );
+    let file = dir.path().join("a_file");
+    std::fs::write(&file, "").unwrap();
+    assert_clear_error(
+        &dyncontact(&[
+            "run",
+            "cases/hertz2d.toml",
+            "--vtu",
+            file.to_str().unwrap(),
+            "--out",
+            o,
+        ]),
+        "not a directory",
+    );
     assert_clear_error(
         &dyncontact(&[
             "run",

@@ -141,6 +141,12 @@ impl<'a> VtuSeries<'a> {
         if every == 0 {
             return Err(Error::invalid("vtu-every", every, "must be ≥ 1"));
         }
+        if dir.exists() && !dir.is_dir() {
+            return Err(Error::Vtk {
+                path: dir.to_path_buf(),
+                message: "exists and is not a directory".into(),
+            });
+        }
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         let (cell_type, order) = vtk_order(&fem.mesh.element);
         let connectivity: Vec<u64> = fem
