@@ -151,7 +151,7 @@ pub fn run_with_output(
         let sampler = scope.spawn(move || -> Result<_> {
             let mut rows: Vec<Row> = Vec::with_capacity(steps + 1);
             let mut errors = Vec::with_capacity(if field.is_some() { steps + 1 } else { 0 });
-            // The nodal forces at the sample of largest total force (impact cases).
+            // The state at the sample of largest total force (impact cases).
             let (mut peak, mut f_peak) = (Peak::default(), 0.0);
             for (index, snap) in rx.into_iter().enumerate() {
                 let s = snap.state();
