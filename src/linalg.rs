@@ -199,7 +199,7 @@ pub enum QuadraticForm {
     /// Diagonals `(d, A_{i,i+d} for every i)` with `|d| ≤` [`NARROW_BAND`].
     Band(Vec<(isize, Vec<f64>)>),
     /// Node blocks (large vector problems: half the memory traffic), `q = x · (A x)`.
-    Body(BlockSym),
+    Block(BlockSym),
     /// The compressed-column matrix itself.
     General(SpMat),
 }
@@ -210,7 +210,7 @@ impl QuadraticForm {
         let n = a.nrows();
         if bandwidth(a) > NARROW_BAND {
             return match BlockSym::new(a) {
-                Some(b) if a.val().len() >= PARALLEL_NNZ => Self::Body(b),
+                Some(b) if a.val().len() >= PARALLEL_NNZ => Self::Block(b),
                 _ => Self::General(a.clone()),
             };
         }
@@ -228,7 +228,7 @@ impl QuadraticForm {
     pub fn eval(&self, x: &[f64], ax: &mut Vec<f64>) -> f64 {
         let diagonals = match self {
             Self::General(a) => return quad(a, x, x),
-            Self::Body(b) => {
+            Self::Block(b) => {
                 ax.resize(x.len(), 0.0);
                 b.apply_serial(ax, x);
                 return dot_unordered(x, ax);
@@ -809,7 +809,7 @@ mod tests {
             let expect: Vec<f64> = y.iter().map(|v| 1.0 + 2.0 * v).collect();
             assert!(max_diff(&w, &expect) < 1e-12, "b = {b}");
             let q = quad(&a, &x, &x);
-            for form in [QuadraticForm::new(&a), QuadraticForm::Body(blocks.clone())] {
+            for form in [QuadraticForm::new(&a), QuadraticForm::Block(blocks.clone())] {
                 assert!((form.eval(&x, &mut Vec::new()) - q).abs() < 1e-12 * q.abs());
             }
         }
@@ -886,7 +886,7 @@ pub struct BlockSym {
     upper: bool,
     ptr: Vec<usize>,
     idx: Vec<u32>,
-    /// Body (I, J), I ≤ J, row-major.
+    /// Block (I, J), I ≤ J, row-major.
     val: Vec<f64>,
     /// First block column of each part (and the end).
     cuts: Vec<usize>,
@@ -894,7 +894,7 @@ pub struct BlockSym {
     parts: std::sync::Mutex<Vec<Vec<f64>>>,
 }
 
-/// Body-column ranges of a [`BlockSym`] product.
+/// Block-column ranges of a [`BlockSym`] product.
 const PARTS: usize = 4;
 
 impl Clone for BlockSym {
@@ -1056,14 +1056,14 @@ impl BlockSym {
 /// The product of a symmetric matrix: by blocks where it has them, by compressed columns otherwise.
 #[derive(Debug, Clone)]
 enum SymOperator {
-    Body(BlockSym),
+    Block(BlockSym),
     Csc(SpMat),
 }
 
 impl SymOperator {
     fn mul(&self, y: &mut [f64], x: &[f64]) {
         match self {
-            Self::Body(b) => b.mul(y, x),
+            Self::Block(b) => b.mul(y, x),
             Self::Csc(a) => sym_mul(y, a, x),
         }
     }
@@ -1138,7 +1138,7 @@ impl Pcg {
             ));
         }
         Ok(Self {
-            op: BlockSym::new(a).map_or_else(|| SymOperator::Csc(a.clone()), SymOperator::Body),
+            op: BlockSym::new(a).map_or_else(|| SymOperator::Csc(a.clone()), SymOperator::Block),
             inv_diag: diag
                 .iter()
                 .map(|&d| if d > 0.0 { 1.0 / d } else { 0.0 })

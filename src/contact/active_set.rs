@@ -13,7 +13,7 @@
 use super::{SolveInfo, Solver};
 use nalgebra::DMatrix;
 
-/// Body-pivoting steps allowed without a decrease of the infeasible count before falling back
+/// Block-pivoting steps allowed without a decrease of the infeasible count before falling back
 /// to single pivots.
 pub const BACKUP_TRIES: usize = 3;
 
