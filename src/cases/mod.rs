@@ -83,6 +83,24 @@ impl Impact {
         }
         (c, force)
     }
+
+    /// The distance of each contact point from the centre of pressure of λ (in the plane), and
+    /// the total force `Σ λ_i`.
+    pub fn distances(&self, lambda: &[f64]) -> (Vec<f64>, f64) {
+        let (c, force) = self.centre_of_pressure(lambda);
+        let tangential = self.hertz.dim - 1;
+        let r = self
+            .positions
+            .iter()
+            .map(|x| {
+                (0..tangential)
+                    .map(|k| (x[k] - c[k]).powi(2))
+                    .sum::<f64>()
+                    .sqrt()
+            })
+            .collect();
+        (r, force)
+    }
 }
 
 /// The `[run]` table: default discretisation choices.

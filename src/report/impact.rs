@@ -118,26 +118,19 @@ impl Shot<'_> {
         let (out, kind, fem, peak, impact) =
             (self.out, self.kind, self.fem, self.peak, self.impact);
         let setting = &self.setting;
-        let (c, force) = impact.centre_of_pressure(&peak.lambda);
-        let tangential = impact.hertz.dim - 1;
-        let points: Vec<(f64, f64)> = fem
-            .contact_vertices
-            .iter()
-            .zip(&peak.lambda)
-            .zip(&impact.positions)
-            .map(|((&(_, area), l), x)| {
-                let r = (0..tangential)
-                    .map(|k| (x[k] - c[k]).powi(2))
-                    .sum::<f64>()
-                    .sqrt();
-                (r, l / area)
-            })
-            .filter(|p| p.1 > 0.0 || p.0 <= 2.0 * impact.hertz.contact_radius(force))
-            .collect();
+        let (r, force) = impact.distances(&peak.lambda);
         let (a, p0) = (
             impact.hertz.contact_radius(force),
             impact.hertz.peak_pressure(force),
         );
+        let points: Vec<(f64, f64)> = fem
+            .contact_vertices
+            .iter()
+            .zip(&peak.lambda)
+            .zip(r)
+            .map(|((&(_, area), l), r)| (r, l / area))
+            .filter(|p| p.1 > 0.0 || p.0 <= 2.0 * a)
+            .collect();
         let profile: Vec<(f64, f64)> = (0..=200)
             .map(|k| {
                 let r = a * k as f64 / 200.0;

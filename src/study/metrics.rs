@@ -241,19 +241,8 @@ pub fn hertz(m: &mut Metrics, rows: &[Row], (lambda, area): (&[f64], &[f64]), im
     }
     let force: f64 = lambda.iter().sum();
     if force > 0.0 && lambda.len() == impact.positions.len() {
-        let tangential = h.dim - 1;
-        let x = &impact.positions;
-        let (centre, _) = impact.centre_of_pressure(lambda);
-        let moment = lambda
-            .iter()
-            .zip(x)
-            .map(|(l, p)| {
-                l * (0..tangential)
-                    .map(|k| (p[k] - centre[k]).powi(2))
-                    .sum::<f64>()
-            })
-            .sum::<f64>()
-            / force;
+        let (r, _) = impact.distances(lambda);
+        let moment = lambda.iter().zip(&r).map(|(l, r)| l * r * r).sum::<f64>() / force;
         let radius = (moment / h.second_moment_ratio()).sqrt();
         m.err_contact_radius = rel(radius, Some(h.contact_radius(force)));
         let p = lambda
