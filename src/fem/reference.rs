@@ -30,6 +30,8 @@ pub struct RefElement {
     pub degree: usize,
 }
 
+/// The unit square's corners in counter-clockwise order.
+const SQUARE: [[usize; 2]; 4] = [[0, 0], [1, 0], [1, 1], [0, 1]];
 /// Edges of the triangle (P2 midpoint order).
 pub const EDGES_2D: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
 /// Edges of the tetrahedron (P2 midpoint order).
@@ -219,17 +221,25 @@ impl RefElement {
         }
     }
 
+    /// Local indices of the vertices in the conventional order of Gmsh and VTK: a simplex's
+    /// 0..=d; a quadrilateral's counter-clockwise; a hexahedron's bottom face counter-clockwise,
+    /// then its top face.
+    pub fn cyclic_vertices(&self) -> Vec<usize> {
+        match self.shape {
+            Shape::Simplex => (0..=self.dim).collect(),
+            Shape::Tensor => (0..self.dim - 1)
+                .flat_map(|z| SQUARE.iter().map(move |&[x, y]| self.corner([x, y, z])))
+                .collect(),
+        }
+    }
+
     /// The faces (edges in 2D) as local vertex indices, quadrilaterals in cyclic order.
     pub fn faces(&self) -> Vec<Vec<usize>> {
         match (self.shape, self.dim) {
             (Shape::Simplex, 2) => vec![vec![0, 1], vec![1, 2], vec![2, 0]],
             (Shape::Simplex, _) => vec![vec![1, 2, 3], vec![0, 2, 3], vec![0, 1, 3], vec![0, 1, 2]],
             (Shape::Tensor, d) => {
-                let cyc: &[[usize; 2]] = if d == 2 {
-                    &[[0, 0], [1, 0]]
-                } else {
-                    &[[0, 0], [1, 0], [1, 1], [0, 1]]
-                };
+                let cyc: &[[usize; 2]] = if d == 2 { &SQUARE[..2] } else { &SQUARE };
                 let mut out = Vec::new();
                 for axis in 0..d {
                     for side in 0..2 {

@@ -269,21 +269,18 @@ fn reorder(
     if gm.len() != el.n_nodes() {
         return Err(format!("{} nodes, expected {}", gm.len(), el.n_nodes()));
     }
-    // Gmsh vertices in the reference vertex order (tensor: counter-clockwise → lexicographic).
-    let vertices: Vec<usize> = match (el.shape, el.dim) {
-        (Shape::Simplex, d) => gm[..=d].to_vec(),
-        (Shape::Tensor, 2) => vec![gm[0], gm[1], gm[3], gm[2]],
-        (Shape::Tensor, _) => vec![gm[0], gm[1], gm[3], gm[2], gm[4], gm[5], gm[7], gm[6]],
-    };
-    let lin = RefElement { degree: 1, ..*el };
+    // Gmsh lists the vertices in the conventional order (tensor: counter-clockwise).
     let mut out = vec![usize::MAX; el.n_nodes()];
-    let local_vertices = el.vertices();
-    for (a, &v) in local_vertices.iter().zip(&vertices) {
-        out[*a] = v;
+    for (a, &v) in el.cyclic_vertices().into_iter().zip(gm) {
+        out[a] = v;
     }
     if el.degree == 1 {
         return Ok(out);
     }
+    // The vertices in the reference (degree-1 basis) order, for the degree-1 map.
+    let local_vertices = el.vertices();
+    let vertices: Vec<usize> = local_vertices.iter().map(|&a| out[a]).collect();
+    let lin = RefElement { degree: 1, ..*el };
     let others: Vec<usize> = gm
         .iter()
         .copied()

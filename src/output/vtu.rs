@@ -19,77 +19,57 @@ use vtkio::model::{
     VertexNumbers, Vtk,
 };
 
-/// Reference coordinates of VTK's vertices and, for degree 2, the vertex groups whose centroid
-/// is each further node, in VTK's order.
-fn vtk_layout(el: &RefElement) -> (Vec<[f64; 3]>, &'static [&'static [usize]]) {
-    let v = |x: &[[f64; 3]]| x.to_vec();
+/// For degree 2, VTK's further nodes after the vertices: each the centroid of a group of
+/// vertices (indices into [`RefElement::cyclic_vertices`], VTK's vertex order).
+fn vtk_groups(el: &RefElement) -> &'static [&'static [usize]] {
     match (el.shape, el.dim) {
-        (Shape::Simplex, 2) => (
-            v(&[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]]),
-            &[&[0, 1], &[1, 2], &[2, 0]],
-        ),
-        (Shape::Tensor, 2) => (
-            v(&[[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]]),
-            &[&[0, 1], &[1, 2], &[2, 3], &[3, 0], &[0, 1, 2, 3]],
-        ),
-        (Shape::Simplex, _) => (
-            v(&[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]]),
-            &[&[0, 1], &[1, 2], &[2, 0], &[0, 3], &[1, 3], &[2, 3]],
-        ),
-        (Shape::Tensor, _) => (
-            v(&[
-                [0., 0., 0.],
-                [1., 0., 0.],
-                [1., 1., 0.],
-                [0., 1., 0.],
-                [0., 0., 1.],
-                [1., 0., 1.],
-                [1., 1., 1.],
-                [0., 1., 1.],
-            ]),
-            &[
-                &[0, 1],
-                &[1, 2],
-                &[2, 3],
-                &[3, 0],
-                &[4, 5],
-                &[5, 6],
-                &[6, 7],
-                &[7, 4],
-                &[0, 4],
-                &[1, 5],
-                &[2, 6],
-                &[3, 7],
-                &[0, 3, 7, 4],
-                &[1, 2, 6, 5],
-                &[0, 1, 5, 4],
-                &[3, 2, 6, 7],
-                &[0, 1, 2, 3],
-                &[4, 5, 6, 7],
-                &[0, 1, 2, 3, 4, 5, 6, 7],
-            ],
-        ),
+        (Shape::Simplex, 2) => &[&[0, 1], &[1, 2], &[2, 0]],
+        (Shape::Tensor, 2) => &[&[0, 1], &[1, 2], &[2, 3], &[3, 0], &[0, 1, 2, 3]],
+        (Shape::Simplex, _) => &[&[0, 1], &[1, 2], &[2, 0], &[0, 3], &[1, 3], &[2, 3]],
+        (Shape::Tensor, _) => &[
+            &[0, 1],
+            &[1, 2],
+            &[2, 3],
+            &[3, 0],
+            &[4, 5],
+            &[5, 6],
+            &[6, 7],
+            &[7, 4],
+            &[0, 4],
+            &[1, 5],
+            &[2, 6],
+            &[3, 7],
+            &[0, 3, 7, 4],
+            &[1, 2, 6, 5],
+            &[0, 1, 5, 4],
+            &[3, 2, 6, 7],
+            &[0, 1, 2, 3],
+            &[4, 5, 6, 7],
+            &[0, 1, 2, 3, 4, 5, 6, 7],
+        ],
     }
 }
 
-/// The VTK cell type of `el` and, for each VTK local node, the local node of `el` at the same
-/// reference coordinates.
+/// The VTK cell type of `el` and, for each VTK local node, the local node of `el`: the vertices
+/// in their conventional order, then (degree 2) the node at the centroid of each VTK group.
 pub fn vtk_order(el: &RefElement) -> (CellType, Vec<usize>) {
-    let (vertices, groups) = vtk_layout(el);
-    let mut points = vertices.clone();
+    let mut order = el.cyclic_vertices();
     if el.degree == 2 {
-        points.extend(groups.iter().map(|g| {
-            std::array::from_fn(|k| g.iter().map(|&i| vertices[i][k]).sum::<f64>() / g.len() as f64)
+        let corners = order.clone();
+        order.extend(vtk_groups(el).iter().map(|g| {
+            let x: [f64; 3] = std::array::from_fn(|k| {
+                g.iter().map(|&i| el.node(corners[i])[k]).sum::<f64>() / g.len() as f64
+            });
+            (0..el.n_nodes())
+                .find(|&a| {
+                    el.node(a)
+                        .iter()
+                        .zip(&x)
+                        .all(|(p, q)| (p - q).abs() < 1e-12)
+                })
+                .expect("every VTK node of a Lagrange cell of degree ≤ 2 is one of its nodes")
         }));
     }
-    let order = points
-        .iter()
-        .map(|x| {
-            (0..el.n_nodes())
-                .find(|&a| el.node(a).iter().zip(x).all(|(p, q)| (p - q).abs() < 1e-12))
-                .expect("every VTK node of a Lagrange cell of degree ≤ 2 is one of its nodes")
-        })
-        .collect();
     let cell_type = match (el.shape, el.dim, el.degree) {
         (Shape::Simplex, 2, 1) => CellType::Triangle,
         (Shape::Tensor, 2, 1) => CellType::Quad,

@@ -16,7 +16,6 @@ use crate::error::{Error, Result};
 use crate::fem::discretisation::Discretisation;
 use crate::output::field_plot::{cell_map, scatter_plot, Cell};
 use crate::output::plot::{time_plot, Series, PALETTE};
-use crate::output::vtu::vtk_order;
 use crate::study::run::{run, Peak};
 use plotters::style::BLACK;
 use std::path::Path;
@@ -168,8 +167,7 @@ impl Shot<'_> {
         let (c, force) = impact.centre_of_pressure(&peak.lambda);
         let window = ZOOM * impact.hertz.contact_radius(force);
         let stress = fem.von_mises(&peak.u);
-        let (_, order) = vtk_order(&fem.mesh.element);
-        let corners = &order[..fem.mesh.element.vertices().len()];
+        let corners = fem.mesh.element.cyclic_vertices();
         let d = fem.dim();
         let cells: Vec<Cell> = fem
             .mesh
