@@ -98,9 +98,9 @@ impl Hertz {
 
     /// The quasi-static force history `F(t) = k δ^{3/2}` of the impact (sphere only), `steps + 1`
     /// samples over `[0, t_c]`: `m δ̈ = −k δ^{3/2}`, `δ(0) = 0`, `δ̇(0) = v`, integrated by RK4
-    /// in the variable `s = δ/δ_max` (error O(1/steps⁴) away from the ends).
+    /// (error O(1/steps⁴) away from the ends).
     pub fn force_history(&self, steps: usize) -> Option<Vec<(f64, f64)>> {
-        let (d_max, t_c) = (self.max_approach()?, self.duration()?);
+        let t_c = self.duration()?;
         let k = self.stiffness();
         let dt = t_c / steps as f64;
         // (δ, δ̇) ↦ (δ̇, −k δ^{3/2} / m), δ clamped at 0 after release.
@@ -117,7 +117,7 @@ impl Hertz {
                 y[c] += dt / 6.0 * (k1[c] + 2.0 * k2[c] + 2.0 * k3[c] + k4[c]);
             }
         }
-        Some(out).filter(|_| d_max > 0.0)
+        Some(out)
     }
 
     /// The ratio `Σ r² p / Σ p` of the Hertz pressure to `a²`: 2/5 (sphere) or 1/4 (disc). The
