@@ -17,7 +17,7 @@ use crate::fem::elasticity::{
     element_mass, element_stiffness, mixed_matrices, stress, von_mises, Lame,
 };
 use crate::linalg::{SpMat, TripletBuilder};
-use crate::mesh::{ContactRule, Mesh};
+use crate::mesh::{ContactRule, Face, Mesh};
 use crate::problem::{Contact, Inertia, Probe};
 use crate::space::{ElementMass, ElementMixed, MassModel};
 use nalgebra::DMatrix;
@@ -35,6 +35,8 @@ pub struct Discretisation {
     pub lame: Lame,
     /// Density ρ.
     pub density: f64,
+    /// The faces of Γ_C.
+    pub contact_faces: Vec<Face>,
     /// The vertices of Γ_C (increasing node index) with their tributary length or area.
     pub contact_vertices: Vec<(usize, f64)>,
 }
@@ -43,12 +45,13 @@ impl Discretisation {
     /// Checks the mesh (no inverted or degenerate cell) and selects Γ_C by `rule`.
     pub fn new(mesh: Mesh, lame: Lame, density: f64, rule: ContactRule) -> Result<Self> {
         mesh.check()?;
-        let faces = mesh.contact_faces(rule)?;
-        let contact_vertices = mesh.tributary(&faces);
+        let contact_faces = mesh.contact_faces(rule)?;
+        let contact_vertices = mesh.tributary(&contact_faces);
         Ok(Self {
             mesh,
             lame,
             density,
+            contact_faces,
             contact_vertices,
         })
     }

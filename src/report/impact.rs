@@ -216,18 +216,9 @@ impl Shot<'_> {
         let (c, force) = impact.centre_of_pressure(&peak.lambda);
         let window = 2.0 * impact.hertz.contact_radius(force);
         let pressure = fem.contact_pressure(&peak.lambda);
-        let on_contact = {
-            let mut flag = vec![false; fem.mesh.nodes.len()];
-            for &(i, _) in &fem.contact_vertices {
-                flag[i] = true;
-            }
-            flag
-        };
         let cells: Vec<Cell> = fem
-            .mesh
-            .boundary_faces()
-            .into_iter()
-            .filter(|f| f.vertices.iter().all(|&i| on_contact[i]))
+            .contact_faces
+            .iter()
             .filter_map(|f| {
                 let poly: Vec<(f64, f64)> = f
                     .vertices
