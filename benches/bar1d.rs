@@ -16,11 +16,9 @@ fn bar(elements: usize, degree: usize) -> Bar1d {
         density: 1.0,
         lift: 0.5,
     };
-    let run = RunSpec {
-        beta: 0.5,
-        gamma: 0.5,
-        ..RunSpec::new("standard", "newmark", 0.5 / elements as f64, 1.0)
-    };
+    let run = RunSpec::new("standard", "newmark", 0.5 / elements as f64, 1.0)
+        .with("beta", 0.5)
+        .with("gamma", 0.5);
     Bar1d::new(exact, elements, degree, true, run).expect("valid bar")
 }
 
@@ -34,13 +32,8 @@ fn simulate_with(case: &Bar1d, space: &str, scheme: &str, steps: usize) -> f64 {
     let problem = case
         .problem(dyncontact::space::by_name(space).unwrap().as_ref())
         .unwrap();
-    let params = dyncontact::time::SchemeParams {
-        beta: 0.5,
-        gamma: 0.5,
-        ..Default::default()
-    };
-    let scheme = dyncontact::time::by_name(scheme, params).unwrap();
-    let solver = dyncontact::contact::by_name("active_set", 1, 1e-3).unwrap();
+    let scheme = dyncontact::time::by_name(scheme, case.run().params()).unwrap();
+    let solver = dyncontact::contact::by_name("active_set", 1).unwrap();
     let mut it = scheme
         .prepare(&problem, case.run().dt, solver.into())
         .unwrap();
@@ -79,8 +72,8 @@ fn schemes(c: &mut Criterion) {
         },
     )
     .expect("valid bar");
-    for scheme in dyncontact::time::SCHEMES {
-        g.bench_function(*scheme, |b| {
+    for scheme in dyncontact::method::names(dyncontact::time::SCHEMES) {
+        g.bench_function(scheme, |b| {
             b.iter(|| black_box(simulate_with(&case, "mass_redistribution", scheme, 1000)))
         });
     }

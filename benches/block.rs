@@ -25,9 +25,8 @@ fn case(file: &str, elements: usize) -> Box<dyn Case> {
 fn prepare_and_step(c: &mut Criterion, group: &str, file: &str, elements: usize) {
     let case = case(file, elements);
     let space = dyncontact::space::by_name("mass_redistribution").unwrap();
-    let params = case.run().scheme_params();
-    let scheme = dyncontact::time::by_name("newmark", params).unwrap();
-    let solver = |n_c| dyncontact::contact::by_name("active_set", n_c, 1e-3).unwrap();
+    let scheme = dyncontact::time::by_name("newmark", case.run().params()).unwrap();
+    let solver = |n_c| dyncontact::contact::by_name("active_set", n_c).unwrap();
     let mut g = c.benchmark_group(group);
     g.sample_size(10);
     g.bench_function("prepare", |b| {

@@ -23,15 +23,17 @@ struct Target {
 }
 
 fn targets() -> Vec<Target> {
-    let o = |space: &str, elements: usize, dt: f64, t_end: f64| Overrides {
-        space: Some(space.into()),
-        scheme: Some("newmark".into()),
-        beta: Some(0.5),
-        gamma: Some(0.5),
-        elements: Some(elements),
-        dt: Some(dt),
-        t_end: Some(t_end),
-        ..Default::default()
+    let o = |space: &str, elements: usize, dt: f64, t_end: f64| {
+        Overrides {
+            space: Some(space.into()),
+            scheme: Some("newmark".into()),
+            elements: Some(elements),
+            dt: Some(dt),
+            t_end: Some(t_end),
+            ..Default::default()
+        }
+        .with("beta", 0.5)
+        .with("gamma", 0.5)
     };
     vec![
         Target {

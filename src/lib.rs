@@ -13,6 +13,7 @@ pub mod exact;
 pub mod fem;
 pub mod linalg;
 pub mod mesh;
+pub mod method;
 pub mod output;
 pub mod problem;
 pub mod report;

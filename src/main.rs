@@ -76,39 +76,15 @@ enum Command {
     Run {
         /// Case file (TOML).
         case: PathBuf,
-        /// Space discretisation (standard, lumped, mass_redistribution, mass_elimination,
-        /// singular_dynamic).
+        /// Space discretisation (`dyncontact list` lists them).
         #[arg(long)]
         space: Option<String>,
-        /// Time scheme (newmark, hht, backward_euler, paoli_schatzman, moreau_jean,
-        /// central_difference).
+        /// Time scheme (`dyncontact list` lists them with their parameters).
         #[arg(long)]
         scheme: Option<String>,
-        /// Newmark β.
-        #[arg(long, allow_negative_numbers = true)]
-        beta: Option<f64>,
-        /// Newmark γ.
-        #[arg(long, allow_negative_numbers = true)]
-        gamma: Option<f64>,
-        /// HHT α ∈ [−1/3, 0].
-        #[arg(long, allow_negative_numbers = true)]
-        alpha: Option<f64>,
-        /// Restitution coefficient e ∈ [0, 1] (paoli_schatzman, moreau_jean).
-        #[arg(long, allow_negative_numbers = true)]
-        restitution: Option<f64>,
-        /// Moreau–Jean θ ∈ [1/2, 1].
-        #[arg(long, allow_negative_numbers = true)]
-        theta: Option<f64>,
-        /// Contact solver (active_set, clarabel, penalty).
-        #[arg(long = "contact-solver")]
-        contact_solver: Option<String>,
-        /// Relative compliance of the penalty contact solver.
-        #[arg(long, allow_negative_numbers = true)]
-        penalty: Option<f64>,
-        /// Linear solver of the step matrix: auto (CG for large 3D problems with nodal contact,
-        /// direct otherwise), direct (sparse Cholesky / LU) or cg.
-        #[arg(long = "linear-solver")]
-        linear_solver: Option<String>,
+        /// Contact formulation, solvers and the methods' parameters.
+        #[command(flatten)]
+        options: cases::Options,
         /// Polynomial degree of the displacement (1 or 2).
         #[arg(long)]
         degree: Option<usize>,
@@ -160,7 +136,8 @@ fn list(dir: &PathBuf) -> Result<()> {
         }
     }
     println!("spaces: {}", dyncontact::space::SPACES.join(", "));
-    println!("schemes: {}", dyncontact::time::SCHEMES.join(", "));
+    print_registry("schemes", dyncontact::time::SCHEMES);
+    print_registry("contact formulations", dyncontact::contact::FORMULATIONS);
     println!(
         "contact solvers: {}",
         dyncontact::contact::SOLVERS.join(", ")
@@ -170,6 +147,26 @@ fn list(dir: &PathBuf) -> Result<()> {
         dyncontact::time::LINEAR_SOLVERS.join(", ")
     );
     Ok(())
+}
+
+/// `kind: a (p=default, …), b, …` of a method registry.
+fn print_registry<T: ?Sized, I>(kind: &str, registry: &[dyncontact::method::Entry<T, I>]) {
+    let entries: Vec<String> = registry
+        .iter()
+        .map(|e| {
+            let p: Vec<String> = e
+                .params
+                .iter()
+                .map(|p| format!("{}={}", p.name, p.default))
+                .collect();
+            if p.is_empty() {
+                e.name.to_string()
+            } else {
+                format!("{} ({})", e.name, p.join(", "))
+            }
+        })
+        .collect();
+    println!("{kind}: {}", entries.join(", "));
 }
 
 fn parse_shard(s: &str) -> std::result::Result<(usize, usize), String> {
@@ -264,14 +261,7 @@ fn main_result(cli: Cli) -> Result<()> {
             case,
             space,
             scheme,
-            beta,
-            gamma,
-            alpha,
-            restitution,
-            theta,
-            contact_solver,
-            penalty,
-            linear_solver,
+            options,
             degree,
             elements,
             mesh,
@@ -284,14 +274,7 @@ fn main_result(cli: Cli) -> Result<()> {
             let overrides = Overrides {
                 space,
                 scheme,
-                beta,
-                gamma,
-                alpha,
-                restitution,
-                theta,
-                contact_solver,
-                penalty,
-                linear_solver,
+                options,
                 degree,
                 elements,
                 mesh,

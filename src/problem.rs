@@ -224,6 +224,9 @@ impl StepOperator {
 }
 
 /// Contact points: `g = g₀ − B_N U`, tributary areas for the stress `σ_N = −λ/area`.
+///
+/// A case builds the nodal rows (one per vertex of Γ_C) and the faces of Γ_C; a contact
+/// formulation ([`crate::contact::Formulation`]) may replace the rows (weak multipliers).
 #[derive(Debug, Clone)]
 pub struct Contact {
     /// `B_N` (n_c × n): normal displacement (outward normal) at each contact point.
@@ -232,6 +235,59 @@ pub struct Contact {
     pub g0: Vec<f64>,
     /// Tributary length/area of each contact point (1 for a bar of unit section or a point mass).
     pub area: Vec<f64>,
+    /// The faces of Γ_C on the vertex rows (a point for a 1D or 0D case).
+    pub faces: Vec<ContactFace>,
+    /// When the rows are not the vertices of Γ_C (P0 multipliers): how their forces spread to
+    /// the vertices; None when row i is vertex i.
+    pub vertices: Option<VertexMap>,
+}
+
+/// A face of Γ_C in terms of the vertex rows it joins: `mass[a·k + b] = ∫_F ψ_a ψ_b` of the
+/// degree-1 hat functions of its k vertices (a point: k = 1, `[1]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactFace {
+    /// Vertex rows of the face.
+    pub rows: Vec<usize>,
+    /// Its P1 mass matrix, row-major.
+    pub mass: Vec<f64>,
+}
+
+impl ContactFace {
+    /// A point of Γ_C (1D end point, point mass): `∫ψ ψ = 1`.
+    pub fn point(row: usize) -> Self {
+        Self {
+            rows: vec![row],
+            mass: vec![1.0],
+        }
+    }
+}
+
+/// How contact rows that are not vertices spread to the vertices of Γ_C.
+#[derive(Debug, Clone)]
+pub struct VertexMap {
+    /// Per row, `(vertex, share)` with shares summing to 1.
+    pub shares: Vec<Vec<(usize, f64)>>,
+    /// The vertices' tributary areas.
+    pub area: Vec<f64>,
+}
+
+impl Contact {
+    /// The contact forces per vertex of Γ_C and the vertices' areas (λ and `area` themselves when
+    /// the rows are the vertices).
+    pub fn vertex_forces(&self, lambda: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        match &self.vertices {
+            None => (lambda.to_vec(), self.area.clone()),
+            Some(map) => {
+                let mut f = vec![0.0; map.area.len()];
+                for (l, row) in lambda.iter().zip(&map.shares) {
+                    for &(v, w) in row {
+                        f[v] += w * l;
+                    }
+                }
+                (f, map.area.clone())
+            }
+        }
+    }
 }
 
 impl Contact {

@@ -212,11 +212,11 @@ fn singular_dynamic_inf_sup_condition_at_the_vertices_of_gamma_c() {
 fn seed_run(space: &str, beta: f64, dt: f64) -> dyncontact::study::run::RunResult {
     let o = Overrides {
         space: Some(space.into()),
-        beta: Some(beta),
         dt: Some(dt),
         degree: Some(if space == "singular_dynamic" { 2 } else { 1 }),
         ..Default::default()
-    };
+    }
+    .with("beta", beta);
     let b = block("cases/block2d.toml", "quad", o);
     run(&b as &dyn Case).unwrap()
 }

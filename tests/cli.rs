@@ -49,6 +49,8 @@ fn bad_case_files_give_errors_naming_the_field() {
         ("lift = 0.5", "lift = \"half\"", "malformed case file"),
         ("elements = 40", "elemnts = 40", "malformed case file"),
         ("beta = 0.5", "beta = 0.9", "beta"),
+        ("beta = 0.5", "betta = 0.5", "`run.betta`: 0.5 (unknown key"),
+        ("beta = 0.5", "beta = \"half\"", "`beta`: expected a number"),
     ];
     for (from, to, needle) in cases {
         let out = dyncontact(&[
@@ -95,7 +97,7 @@ fn bad_command_line_values_give_clear_errors() {
         ]),
         "degree 2",
     );
-    let scheme_cases: [(&[&str], &str); 6] = [
+    let scheme_cases: [(&[&str], &str); 7] = [
         (&["--scheme", "hht", "--alpha", "0.5"], "alpha"),
         (
             &["--scheme", "paoli_schatzman", "--restitution", "1.5"],
@@ -103,10 +105,8 @@ fn bad_command_line_values_give_clear_errors() {
         ),
         (&["--scheme", "moreau_jean", "--theta", "0.2"], "theta"),
         (&["--contact-solver", "simplex"], "unknown contact solver"),
-        (
-            &["--contact-solver", "penalty", "--penalty", "0"],
-            "run.penalty",
-        ),
+        (&["--contact", "mortar"], "unknown contact formulation"),
+        (&["--contact", "penalty", "--penalty", "0"], "run.penalty"),
         (
             &["--scheme", "central_difference", "--dt", "0.1"],
             "unstable time step",
@@ -170,7 +170,7 @@ fn sweep_writes_records_and_orders_for_every_combination() {
     let orders = std::fs::read_to_string(dir.path().join("orders.csv")).unwrap();
     // 7 schemes × 3 quick levels.
     assert_eq!(records.lines().count(), 1 + 7 * 3);
-    for scheme in dyncontact::time::SCHEMES {
+    for scheme in dyncontact::method::names(dyncontact::time::SCHEMES) {
         assert!(
             orders
                 .lines()

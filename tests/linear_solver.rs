@@ -2,7 +2,7 @@
 //! the direct factor (`direct`) to CG's accuracy, on every sparse space; where CG does not apply
 //! it is refused with a message naming why.
 
-use dyncontact::cases::{self, Overrides};
+use dyncontact::cases::{self, Options, Overrides};
 use dyncontact::study::run::{run, RunResult};
 use std::path::Path;
 
@@ -10,13 +10,16 @@ fn run_with(file: &str, space: &str, elements: usize, dt: f64, linear: &str) -> 
     let o = Overrides {
         space: Some(space.into()),
         scheme: Some("newmark".into()),
-        beta: Some(0.5),
-        gamma: Some(0.5),
         elements: Some(elements),
         dt: Some(dt),
-        linear_solver: Some(linear.into()),
+        options: Options {
+            linear_solver: Some(linear.into()),
+            ..Default::default()
+        },
         ..Default::default()
-    };
+    }
+    .with("beta", 0.5)
+    .with("gamma", 0.5);
     run(cases::load(Path::new(file), &o).unwrap().as_ref()).unwrap()
 }
 
@@ -102,7 +105,10 @@ fn cg_is_refused_where_it_does_not_apply() {
             degree: Some(degree),
             elements: Some(4),
             dt: Some(1e-2),
-            linear_solver: Some("cg".into()),
+            options: Options {
+                linear_solver: Some("cg".into()),
+                ..Default::default()
+            },
             ..Default::default()
         };
         let case = cases::load(Path::new("cases/block2d.toml"), &o).unwrap();
@@ -113,7 +119,10 @@ fn cg_is_refused_where_it_does_not_apply() {
     let cd = refused("lumped", "central_difference", 1);
     assert!(cd.contains("cg does not apply"), "{cd}");
     let o = Overrides {
-        linear_solver: Some("gmres".into()),
+        options: Options {
+            linear_solver: Some("gmres".into()),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let bad = cases::load(Path::new("cases/block2d.toml"), &o)

@@ -12,11 +12,11 @@ fn spring(
 ) -> dyncontact::Result<dyncontact::study::run::RunResult> {
     let o = Overrides {
         space: Some(space.into()),
-        beta: Some(beta),
-        gamma: Some(gamma),
         dt: Some(dt),
         ..Default::default()
-    };
+    }
+    .with("beta", beta)
+    .with("gamma", gamma);
     let case = cases::load(Path::new("cases/spring_mass.toml"), &o)?;
     run(case.as_ref())
 }

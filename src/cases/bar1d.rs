@@ -15,7 +15,7 @@ use crate::fem::quadrature::gauss_legendre_01;
 use crate::fem::segment::Segment;
 use crate::linalg::TripletBuilder;
 use crate::mesh::interval::IntervalMesh;
-use crate::problem::{Contact, Probe, Problem};
+use crate::problem::{Contact, ContactFace, Probe, Problem};
 use crate::space::{ElementMass, ElementMixed, MassModel, Space};
 use serde::Deserialize;
 
@@ -206,6 +206,8 @@ impl Case for Bar1d {
                 b_n: b_n.build()?,
                 g0: vec![0.0],
                 area: vec![1.0],
+                faces: vec![ContactFace::point(0)],
+                vertices: None,
             },
             u0,
             v0: vec![0.0; n],

@@ -12,9 +12,10 @@ pub mod sweep;
 
 use crate::error::{positive, Error, Result};
 use crate::exact::ExactContact;
+pub use crate::method::Options;
+use crate::method::Params;
 use crate::problem::Problem;
 use crate::space::Space;
-use crate::time::SchemeParams;
 use serde::de::DeserializeOwned;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -105,88 +106,39 @@ impl Impact {
 
 /// The `[run]` table: default discretisation choices.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
 pub struct RunSpec {
     /// Space discretisation name.
     pub space: String,
     /// Time scheme name.
     pub scheme: String,
-    /// Newmark β.
-    #[serde(default = "default_beta")]
-    pub beta: f64,
-    /// Newmark γ.
-    #[serde(default = "default_gamma")]
-    pub gamma: f64,
-    /// HHT α ∈ [−⅓, 0].
-    #[serde(default = "default_alpha")]
-    pub alpha: f64,
-    /// Restitution e ∈ [0, 1] of Paoli–Schatzman and Moreau–Jean (default: the case's physical
-    /// restitution for spring_mass, 0 otherwise).
-    #[serde(default)]
-    pub restitution: Option<f64>,
-    /// Moreau–Jean θ ∈ [½, 1].
-    #[serde(default = "default_theta")]
-    pub theta: f64,
     /// Time step.
     pub dt: f64,
     /// Final time.
     pub t_end: f64,
-    /// Contact solver name.
-    #[serde(default = "default_solver")]
-    pub contact_solver: String,
-    /// Relative compliance of the `penalty` contact solver.
-    #[serde(default = "default_penalty")]
-    pub penalty: f64,
-    /// Linear solver of the step matrix: `auto`, `direct` or `cg`.
-    #[serde(default = "default_linear_solver")]
-    pub linear_solver: String,
-}
-
-fn default_beta() -> f64 {
-    0.25
-}
-fn default_gamma() -> f64 {
-    0.5
-}
-fn default_solver() -> String {
-    "active_set".into()
-}
-fn default_alpha() -> f64 {
-    SchemeParams::default().alpha
-}
-fn default_theta() -> f64 {
-    SchemeParams::default().theta
-}
-fn default_linear_solver() -> String {
-    "auto".into()
-}
-fn default_penalty() -> f64 {
-    crate::contact::DEFAULT_PENALTY
+    /// Contact formulation, solvers and the methods' parameters.
+    #[serde(flatten)]
+    pub options: Options,
 }
 
 impl RunSpec {
     /// Default settings for `space` and `scheme` (parameters at their defaults).
     pub fn new(space: &str, scheme: &str, dt: f64, t_end: f64) -> Self {
-        let p = SchemeParams::default();
         Self {
             space: space.into(),
             scheme: scheme.into(),
-            beta: p.beta,
-            gamma: p.gamma,
-            alpha: p.alpha,
-            restitution: None,
-            theta: p.theta,
             dt,
             t_end,
-            contact_solver: default_solver(),
-            penalty: default_penalty(),
-            linear_solver: default_linear_solver(),
+            options: Options::default(),
         }
     }
-}
 
-impl RunSpec {
-    /// Checks dt, t_end and the names.
+    /// `self` with parameter `name` set (builder form).
+    pub fn with(mut self, name: &str, value: f64) -> Self {
+        self.options.params.set(name, value);
+        self
+    }
+
+    /// Checks dt, t_end, the names and the parameters.
     pub fn validate(&self) -> Result<()> {
         positive("run.dt", self.dt)?;
         positive("run.t_end", self.t_end)?;
@@ -197,22 +149,49 @@ impl RunSpec {
                 "must not exceed run.t_end",
             ));
         }
+        self.options.params.validate("run")?;
         crate::space::by_name(&self.space)?;
-        crate::time::by_name(&self.scheme, self.scheme_params())?;
-        crate::contact::by_name(&self.contact_solver, 0, self.penalty)?;
-        crate::time::LinearSolver::by_name(&self.linear_solver)?;
+        crate::time::by_name(&self.scheme, self.params())?;
+        crate::contact::formulation(&self.options)?;
+        if let (Some(m), false) = (
+            &self.options.contact_multiplier,
+            self.options.contact() == "weak",
+        ) {
+            return Err(Error::invalid(
+                "run.contact_multiplier",
+                m,
+                "applies to contact = \"weak\" only",
+            ));
+        }
+        crate::contact::by_name(self.options.contact_solver(), 0)?;
+        crate::time::LinearSolver::by_name(self.options.linear_solver())?;
         Ok(())
     }
 
-    /// Scheme parameters of this run.
-    pub fn scheme_params(&self) -> SchemeParams {
-        SchemeParams {
-            beta: self.beta,
-            gamma: self.gamma,
-            alpha: self.alpha,
-            restitution: self.restitution.unwrap_or(0.0),
-            theta: self.theta,
+    /// The methods' parameter values of this run.
+    pub fn params(&self) -> &Params {
+        &self.options.params
+    }
+
+    /// The `parameters` column of the records: the scheme's `name=value;…`, then, for a contact
+    /// formulation other than the default, `contact=<name>` and its parameters.
+    pub fn parameters(&self) -> Result<String> {
+        let mut out = crate::time::entry(&self.scheme)?.describe(self.params());
+        let contact = self.options.contact();
+        if contact != crate::contact::DEFAULT_FORMULATION {
+            let entry = crate::contact::formulation_entry(contact)?;
+            let own = entry.describe(self.params());
+            let label = crate::contact::formulation(&self.options)?.label();
+            for part in [format!("contact={label}"), own] {
+                if !part.is_empty() {
+                    if !out.is_empty() {
+                        out.push(';');
+                    }
+                    out.push_str(&part);
+                }
+            }
         }
+        Ok(out)
     }
 
     /// Number of steps `round(t_end / dt)` (≥ 1).
@@ -228,22 +207,8 @@ pub struct Overrides {
     pub space: Option<String>,
     /// `--scheme`.
     pub scheme: Option<String>,
-    /// `--beta`.
-    pub beta: Option<f64>,
-    /// `--gamma`.
-    pub gamma: Option<f64>,
-    /// `--alpha`.
-    pub alpha: Option<f64>,
-    /// `--restitution`.
-    pub restitution: Option<f64>,
-    /// `--theta`.
-    pub theta: Option<f64>,
-    /// `--contact-solver`.
-    pub contact_solver: Option<String>,
-    /// `--penalty`.
-    pub penalty: Option<f64>,
-    /// `--linear-solver`.
-    pub linear_solver: Option<String>,
+    /// `--contact`, `--contact-solver`, `--linear-solver` and the parameters (`--beta`, …).
+    pub options: Options,
     /// `--degree`.
     pub degree: Option<usize>,
     /// `--elements`.
@@ -265,20 +230,15 @@ impl Overrides {
         if let Some(s) = &self.scheme {
             run.scheme = s.clone();
         }
-        run.beta = self.beta.unwrap_or(run.beta);
-        run.gamma = self.gamma.unwrap_or(run.gamma);
-        run.alpha = self.alpha.unwrap_or(run.alpha);
-        run.restitution = self.restitution.or(run.restitution);
-        run.theta = self.theta.unwrap_or(run.theta);
-        if let Some(s) = &self.contact_solver {
-            run.contact_solver = s.clone();
-        }
-        run.penalty = self.penalty.unwrap_or(run.penalty);
-        if let Some(s) = &self.linear_solver {
-            run.linear_solver = s.clone();
-        }
+        run.options.overlay(&self.options);
         run.dt = self.dt.unwrap_or(run.dt);
         run.t_end = self.t_end.unwrap_or(run.t_end);
+    }
+
+    /// `self` with parameter `name` set (tests and benches: `Overrides::default().with("beta", 0.5)`).
+    pub fn with(mut self, name: &str, value: f64) -> Self {
+        self.options.params.set(name, value);
+        self
     }
 }
 

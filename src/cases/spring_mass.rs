@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::exact::spring_mass::{SpringMass, SpringMassParams};
 use crate::exact::ExactContact;
 use crate::linalg::TripletBuilder;
-use crate::problem::{Contact, Probe, Problem};
+use crate::problem::{Contact, ContactFace, Probe, Problem};
 use crate::space::{ElementMass, MassModel, Space};
 use nalgebra::DMatrix;
 use serde::Deserialize;
@@ -72,7 +72,9 @@ impl SpringMassCase {
         let mut run = spec.run;
         o.apply(&mut run);
         // The schemes with a restitution law use the physical one unless told otherwise.
-        run.restitution = run.restitution.or(Some(s.restitution));
+        run.options
+            .params
+            .or_set(&crate::time::paoli_schatzman::RESTITUTION, s.restitution);
         run.validate()?;
         let p = SpringMassParams {
             mass: s.mass,
@@ -150,6 +152,8 @@ impl Case for SpringMassCase {
                 b_n: b_n.build()?,
                 g0: vec![0.0],
                 area: vec![1.0],
+                faces: vec![ContactFace::point(0)],
+                vertices: None,
             },
             u0: vec![p.u0],
             v0: vec![p.v0],

@@ -14,31 +14,20 @@
 //! # or: refinements = [{ elements = 20, dt = 0.025 }, { elements = 40, dt = 0.0125 }]
 //! ```
 
-use super::Overrides;
+use super::{Options, Overrides};
 use crate::error::{positive, Error, Result};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 
-/// One scheme with its parameters (unset ones take the case's `[run]` values).
+/// One scheme with its options (unset ones take the case's `[run]` values): the same keys as
+/// `[run]` (`beta`, `contact`, `contact_solver`, …).
 #[derive(Debug, Clone, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
 pub struct SchemeChoice {
     /// Scheme name.
     pub scheme: String,
-    /// Newmark β.
-    pub beta: Option<f64>,
-    /// Newmark γ.
-    pub gamma: Option<f64>,
-    /// HHT α.
-    pub alpha: Option<f64>,
-    /// Restitution e.
-    pub restitution: Option<f64>,
-    /// Moreau–Jean θ.
-    pub theta: Option<f64>,
-    /// Contact solver.
-    pub contact_solver: Option<String>,
-    /// Penalty relative compliance.
-    pub penalty: Option<f64>,
+    /// Contact formulation, solvers and parameters.
+    #[serde(flatten)]
+    pub options: Options,
 }
 
 impl HistorySpec {
@@ -53,22 +42,13 @@ impl HistorySpec {
 }
 
 impl SchemeChoice {
-    /// `scheme (key=value, …)` with the parameters set in the table.
+    /// `scheme (key=value, …)` with the options set in the table.
     pub fn label(&self) -> String {
-        let params: Vec<String> = [
-            ("beta", self.beta),
-            ("gamma", self.gamma),
-            ("alpha", self.alpha),
-            ("theta", self.theta),
-            ("e", self.restitution),
-        ]
-        .iter()
-        .filter_map(|(k, v)| v.map(|v| format!("{k}={v}")))
-        .collect();
-        if params.is_empty() {
+        let options = self.options.label(&self.scheme);
+        if options.is_empty() {
             self.scheme.clone()
         } else {
-            format!("{} ({})", self.scheme, params.join(", "))
+            format!("{} ({options})", self.scheme)
         }
     }
 }
@@ -123,6 +103,12 @@ impl SweepSpec {
     /// The refinement levels (the first `quick_levels` with `quick`), validated.
     pub fn refinements(&self, quick: bool) -> Result<Vec<Refinement>> {
         let field = |f: &str| format!("sweep.{}.{f}", self.name);
+        for choice in &self.schemes {
+            choice
+                .options
+                .params
+                .validate(&format!("sweep.{}", self.name))?;
+        }
         let mut levels = if self.refinements.is_empty() {
             let dt = self
                 .dt
@@ -191,14 +177,7 @@ fn combination(
     Overrides {
         space: Some(space.to_string()),
         scheme: Some(choice.scheme.clone()),
-        beta: choice.beta,
-        gamma: choice.gamma,
-        alpha: choice.alpha,
-        restitution: choice.restitution,
-        theta: choice.theta,
-        contact_solver: choice.contact_solver.clone(),
-        penalty: choice.penalty,
-        linear_solver: None,
+        options: choice.options.clone(),
         degree: degree.get(space).copied(),
         elements: level.elements,
         mesh: None,

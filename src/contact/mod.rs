@@ -1,4 +1,5 @@
-//! Contact solvers for the per-step linear complementarity problem on the contact dofs.
+//! Contact formulations ([`Formulation`]: [`nodal`], [`penalty`]) and the solvers of the per-step
+//! linear complementarity problem on the contact dofs ([`Solver`]).
 //!
 //! After the predictor solve of an implicit step, the gaps at the new time level are affine in the
 //! contact pressures: `g = q + D λ`, with `D = c · B_N A⁻¹ B_Nᵀ` (the Delassus operator, the Schur
@@ -8,9 +9,12 @@
 
 pub mod active_set;
 pub mod clarabel_qp;
+pub mod nodal;
 pub mod penalty;
 
 use crate::error::{Error, Result};
+use crate::method::{Entry, Options};
+use crate::problem::Problem;
 use nalgebra::DMatrix;
 
 /// Outcome of one LCP solve.
@@ -36,25 +40,56 @@ pub trait Solver: Send {
     ) -> std::result::Result<SolveInfo, String>;
 }
 
-/// Contact solver names accepted by [`by_name`].
-pub const SOLVERS: &[&str] = &["active_set", "clarabel", "penalty"];
+/// LCP solver names accepted by [`by_name`].
+pub const SOLVERS: &[&str] = &["active_set", "clarabel"];
 
-/// Default relative penalty compliance of the `penalty` solver (see [`penalty::Penalty`]).
-pub const DEFAULT_PENALTY: f64 = 1e-3;
-
-/// The solver called `name` for `n_c` contact points; `penalty` is the relative compliance of the
-/// `penalty` solver (ignored by the others).
-pub fn by_name(name: &str, n_c: usize, penalty: f64) -> Result<Box<dyn Solver>> {
+/// The LCP solver called `name`, with a workspace for `n_c` contact points.
+pub fn by_name(name: &str, n_c: usize) -> Result<Box<dyn Solver>> {
     match name {
         "active_set" => Ok(Box::new(active_set::ActiveSet::new(n_c))),
         "clarabel" => Ok(Box::new(clarabel_qp::ClarabelQp::new())),
-        "penalty" => Ok(Box::new(penalty::Penalty::new(n_c, penalty)?)),
         _ => Err(Error::UnknownName {
             kind: "contact solver",
             name: name.to_string(),
             known: SOLVERS.join(", "),
         }),
     }
+}
+
+/// A contact formulation: how the Signorini condition enters the semi-discrete problem and
+/// which law the per-step problem on the contact rows obeys.
+pub trait Formulation: Send + Sync + std::fmt::Debug {
+    /// Name on the command line, in case files and in records.
+    fn name(&self) -> &'static str;
+    /// The name with its variant, as in the records' `contact=` (default: the name).
+    fn label(&self) -> String {
+        self.name().to_string()
+    }
+    /// The per-step law on the contact rows, given the LCP solver chosen by `--contact-solver`.
+    fn law(&self, solver: Box<dyn Solver>) -> Box<dyn Solver>;
+    /// Turns the nodal contact rows a case builds (one per vertex of Γ_C) into this
+    /// formulation's (the default keeps them).
+    fn contact(&self, _problem: &mut Problem) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// The contact formulations, one registry line each (their parameters are declared in their
+/// files).
+pub const FORMULATIONS: &[Entry<dyn Formulation, Options>] = &[nodal::ENTRY, penalty::ENTRY];
+
+/// Default formulation.
+pub const DEFAULT_FORMULATION: &str = "nodal";
+
+/// The registry entry of the formulation called `name`.
+pub fn formulation_entry(name: &str) -> Result<&'static Entry<dyn Formulation, Options>> {
+    crate::method::find(FORMULATIONS, "contact formulation", name)
+}
+
+/// The formulation chosen by `options` (`contact`, default [`DEFAULT_FORMULATION`]), with its
+/// parameters read from them and validated.
+pub fn formulation(options: &Options) -> Result<Box<dyn Formulation>> {
+    (formulation_entry(options.contact())?.build)(options)
 }
 
 /// Checks `λ ≥ 0`, `g = q + Dλ ≥ −tol` and `|λ_i g_i| ≤ tol` on the points with finite `q_i`

@@ -1,33 +1,73 @@
-//! Penalty contact (inexact, for comparison): the pressure of a stiff spring on the penetration,
-//! `λ = κ (−g)₊`, with compliance `ε = 1/κ`.
+//! Penalty contact (a formulation, `--contact penalty`; inexact, for comparison): nodal rows, and
+//! the pressure of a stiff spring on the penetration, `λ = κ (−g)₊`, with compliance `ε = 1/κ`.
 //!
-//! With `g = q + Dλ` the law is `LCP(D + ε I, q)`, solved exactly by [`ActiveSet`]; the result
+//! With `g = q + Dλ` the law is `LCP(D + ε I, q)`, solved exactly by the chosen LCP solver
+//! (`--contact-solver`); the result
 //! penetrates by `g_i = −ε λ_i`. The compliance is relative to the step: `ε = r · max_i D_ii`
 //! (r = `run.penalty`, default 10⁻³), i.e. a penalty stiffness 1/r times that of the stiffest
 //! contact point in the step operator. The error is O(r), not zero: the exact solvers are the
 //! reference.
 
-use super::active_set::ActiveSet;
-use super::{SolveInfo, Solver};
+use super::{Formulation, SolveInfo, Solver};
 use crate::error::{positive, Result};
+use crate::method::{Entry, Options, Param};
 use nalgebra::DMatrix;
 
-/// Penalty solver with relative compliance `r`.
-#[derive(Debug, Clone)]
+/// Relative compliance r of the penalty.
+pub const PENALTY: Param = Param {
+    name: "penalty",
+    label: "penalty",
+    default: 1e-3,
+    help: "Relative compliance r of the penalty contact (ε = r · max D_ii)",
+};
+
+/// Registry entry: `penalty` with r.
+pub const ENTRY: Entry<dyn Formulation, Options> = Entry {
+    name: "penalty",
+    params: &[&PENALTY],
+    build: |o| Ok(Box::new(PenaltyContact::new(o.params.get(&PENALTY))?)),
+};
+
+/// The penalty formulation: nodal rows, penalised law.
+#[derive(Debug, Clone, Copy)]
+pub struct PenaltyContact {
+    ratio: f64,
+}
+
+impl PenaltyContact {
+    /// Relative compliance `ratio` (> 0).
+    pub fn new(ratio: f64) -> Result<Self> {
+        Ok(Self {
+            ratio: positive("run.penalty", ratio)?,
+        })
+    }
+}
+
+impl Formulation for PenaltyContact {
+    fn name(&self) -> &'static str {
+        "penalty"
+    }
+
+    fn law(&self, solver: Box<dyn Solver>) -> Box<dyn Solver> {
+        Box::new(Penalty::new(self.ratio, solver))
+    }
+}
+
+/// The penalised law `LCP(D + εI, q)`, solved by an exact LCP solver.
 pub struct Penalty {
     ratio: f64,
     regularised: DMatrix<f64>,
-    exact: ActiveSet,
+    exact: Box<dyn Solver>,
 }
 
 impl Penalty {
-    /// Workspace for `n_c` points and relative compliance `ratio` (> 0).
-    pub fn new(n_c: usize, ratio: f64) -> Result<Self> {
-        Ok(Self {
-            ratio: positive("run.penalty", ratio)?,
-            regularised: DMatrix::zeros(n_c, n_c),
-            exact: ActiveSet::new(n_c),
-        })
+    /// Relative compliance `ratio`, the regularised LCP solved by `exact`.
+    pub fn new(ratio: f64, exact: Box<dyn Solver>) -> Self {
+        Self {
+            ratio,
+            regularised: DMatrix::zeros(0, 0),
+            exact,
+        }
     }
 }
 
@@ -44,7 +84,7 @@ impl Solver for Penalty {
     ) -> std::result::Result<SolveInfo, String> {
         let n = q.len();
         let eps = self.ratio * (0..n).fold(0.0f64, |m, i| m.max(d[(i, i)]));
-        self.regularised.copy_from(d);
+        self.regularised.clone_from(d);
         for i in 0..n {
             self.regularised[(i, i)] += eps;
         }
@@ -60,12 +100,11 @@ mod tests {
     fn penalty_penetrates_by_epsilon_lambda() {
         let d = DMatrix::from_element(1, 1, 2.0);
         let mut l = [0.0];
-        Penalty::new(1, 0.01)
-            .unwrap()
+        Penalty::new(0.01, Box::new(super::super::active_set::ActiveSet::new(1)))
             .solve(&d, &[-1.0], &mut l)
             .unwrap();
         // λ = 1/(2 + 0.02), g = −1 + 2λ = −0.02 λ.
         assert!((l[0] - 1.0 / 2.02).abs() < 1e-15);
-        assert!(Penalty::new(1, 0.0).is_err());
+        assert!(PenaltyContact::new(0.0).is_err());
     }
 }

@@ -18,7 +18,7 @@ use crate::fem::elasticity::{
 };
 use crate::linalg::{SpMat, TripletBuilder};
 use crate::mesh::{ContactRule, Face, Mesh};
-use crate::problem::{Contact, Inertia, Probe};
+use crate::problem::{Contact, ContactFace, Inertia, Probe};
 use crate::space::{ElementMass, ElementMixed, MassModel};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -194,7 +194,7 @@ impl Discretisation {
     /// The contact operator with the body lifted by `lift` above the plane: refuses an initial
     /// penetration deeper than [`PENETRATION_TOLERANCE`] · h, naming the vertex.
     pub fn contact(&self, lift: f64) -> Result<Contact> {
-        let d = self.dim();
+        let (d, x) = (self.dim(), &self.mesh.nodes);
         let n = self.n_dofs();
         let mut b_n = TripletBuilder::new(self.contact_vertices.len(), n);
         let mut g0 = Vec::with_capacity(self.contact_vertices.len());
@@ -213,10 +213,26 @@ impl Discretisation {
             }
             g0.push(g);
         }
+        let row: std::collections::HashMap<usize, usize> = self
+            .contact_vertices
+            .iter()
+            .enumerate()
+            .map(|(r, v)| (v.0, r))
+            .collect();
+        let faces = self
+            .contact_faces
+            .iter()
+            .map(|f| ContactFace {
+                rows: f.vertices.iter().map(|v| row[v]).collect(),
+                mass: face_mass(&f.vertices.iter().map(|&v| x[v]).collect::<Vec<_>>()),
+            })
+            .collect();
         Ok(Contact {
             b_n: b_n.build()?,
             g0,
             area: self.contact_vertices.iter().map(|v| v.1).collect(),
+            faces,
+            vertices: None,
         })
     }
 
@@ -322,6 +338,49 @@ impl Discretisation {
             u_dof,
             w_dof,
         })
+    }
+}
+
+/// `∫_F ψ_a ψ_b` of the degree-1 hat functions of a straight face with vertices `x` (cyclic
+/// order): a segment `|F|/6 [2 1; 1 2]`, a triangle `|F|/12 (1 + δ_ab)`, a quadrilateral by 2 × 2
+/// Gauss points on its bilinear map (exact: the integrand is of degree 3 in each variable).
+fn face_mass(x: &[[f64; 3]]) -> Vec<f64> {
+    let k = x.len();
+    let sub =
+        |a: [f64; 3], b: [f64; 3]| nalgebra::Vector3::new(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+    match k {
+        2 | 3 => {
+            let measure = if k == 2 {
+                sub(x[1], x[0]).norm()
+            } else {
+                0.5 * sub(x[1], x[0]).cross(&sub(x[2], x[0])).norm()
+            };
+            let scale = measure / ((k + 1) * k) as f64;
+            (0..k * k)
+                .map(|ab| scale * if ab / k == ab % k { 2.0 } else { 1.0 })
+                .collect()
+        }
+        _ => {
+            let g = 0.5 / 3f64.sqrt();
+            let mut m = vec![0.0; 16];
+            for (s, t) in [
+                (0.5 - g, 0.5 - g),
+                (0.5 + g, 0.5 - g),
+                (0.5 + g, 0.5 + g),
+                (0.5 - g, 0.5 + g),
+            ] {
+                let psi = [(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t];
+                let ds = sub(x[1], x[0]) * (1.0 - t) + sub(x[2], x[3]) * t;
+                let dt = sub(x[3], x[0]) * (1.0 - s) + sub(x[2], x[1]) * s;
+                let w = 0.25 * ds.cross(&dt).norm();
+                for a in 0..4 {
+                    for b in 0..4 {
+                        m[a * 4 + b] += w * psi[a] * psi[b];
+                    }
+                }
+            }
+            m
+        }
     }
 }
 

@@ -249,8 +249,8 @@ fn failed_summary(job: &Job, case: Option<&dyn Case>) -> Summary {
     let spec = case.map(|c| c.run().clone());
     let parameters = spec
         .as_ref()
-        .and_then(|s| crate::time::by_name(&s.scheme, s.scheme_params()).ok())
-        .map_or_else(String::new, |s| s.parameters());
+        .and_then(|s| s.parameters().ok())
+        .unwrap_or_default();
     Summary {
         case: case.map_or("", |c| c.kind()).to_string(),
         space: job.space.clone(),

@@ -125,21 +125,25 @@ pub fn run_with_output(
     let per_step = (std::mem::size_of::<Row>() + 16) as f64;
     crate::util::check_memory("run.dt", spec.dt, (steps + 1) as f64 * per_step)?;
     let space = crate::space::by_name(&spec.space)?;
-    let scheme = crate::time::by_name(&spec.scheme, spec.scheme_params())?;
-    let problem = case.problem(space.as_ref())?;
-    let solver =
-        crate::contact::by_name(&spec.contact_solver, problem.contact.len(), spec.penalty)?;
+    let scheme = crate::time::by_name(&spec.scheme, spec.params())?;
+    let formulation = crate::contact::formulation(&spec.options)?;
+    let mut problem = case.problem(space.as_ref())?;
+    formulation.contact(&mut problem)?;
+    let solver = formulation.law(crate::contact::by_name(
+        spec.options.contact_solver(),
+        problem.contact.len(),
+    )?);
     let field = case.field_error();
     let exact = case.exact();
     let impact = case.impact();
     let start = Instant::now();
     let solvers = crate::time::Solvers {
         contact: solver,
-        linear: crate::time::LinearSolver::by_name(&spec.linear_solver)?,
+        linear: crate::time::LinearSolver::by_name(spec.options.linear_solver())?,
     };
     let mut integrator = scheme.prepare(&problem, spec.dt, solvers)?;
     let mut bar = Progress::new(progress, steps);
-    let (rows, field_errors, peak, iterations) = std::thread::scope(|scope| -> Result<_> {
+    let (rows, field_errors, mut peak, iterations) = std::thread::scope(|scope| -> Result<_> {
         let (tx, rx) = mpsc::sync_channel::<Snapshot>(SAMPLE_QUEUE);
         let (recycle, recycled) = mpsc::channel();
         let (problem, field) = (&problem, &field);
@@ -162,7 +166,7 @@ pub fn run_with_output(
                             t: s.t,
                             u: s.u,
                             v: s.v,
-                            lambda: s.lambda,
+                            lambda: &problem.contact.vertex_forces(s.lambda).0,
                         },
                     )?;
                 }
@@ -214,13 +218,11 @@ pub fn run_with_output(
         case.stress_is_function(),
         exact.and_then(|e| e.first_impact()),
     );
+    // The impact metrics and figures read forces per vertex of Γ_C.
+    let (vertex_lambda, vertex_area) = problem.contact.vertex_forces(&peak.lambda);
+    peak.lambda = vertex_lambda;
     if let Some(i) = &impact {
-        metrics::hertz(
-            &mut metrics,
-            &rows,
-            (&peak.lambda, &problem.contact.area),
-            i,
-        );
+        metrics::hertz(&mut metrics, &rows, (&peak.lambda, &vertex_area), i);
     }
     Ok(RunResult {
         rows,
@@ -229,7 +231,7 @@ pub fn run_with_output(
             case: case.kind().to_string(),
             space: space.name().to_string(),
             scheme: scheme.name().to_string(),
-            parameters: scheme.parameters(),
+            parameters: spec.parameters()?,
             h: case.h(),
             dt: spec.dt,
             dofs: problem.n(),

@@ -11,7 +11,15 @@ use super::implicit::ContactStep;
 use super::stepper::{time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
 use crate::error::Result;
+use crate::method::Entry;
 use crate::problem::Problem;
+
+/// Registry entry: `backward_euler` (no parameter).
+pub const ENTRY: Entry<dyn Scheme> = Entry {
+    name: "backward_euler",
+    params: &[],
+    build: |_| Ok(Box::new(BackwardEuler)),
+};
 
 /// Backward Euler (no parameter).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,10 +28,6 @@ pub struct BackwardEuler;
 impl Scheme for BackwardEuler {
     fn name(&self) -> &'static str {
         "backward_euler"
-    }
-
-    fn parameters(&self) -> String {
-        String::new()
     }
 
     fn prepare<'p>(

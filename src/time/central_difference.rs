@@ -19,12 +19,20 @@ use super::stepper::{time_step, Stepper, ThreeLevel};
 use super::{Integrator, Scheme, State, StepInfo};
 use crate::error::{Error, Result};
 use crate::linalg::{self, SpMat, TripletBuilder};
+use crate::method::Entry;
 use crate::problem::{Inertia, Problem};
 
 /// Power iterations of the CFL estimate (the Rayleigh quotient converges from below).
 pub const CFL_ITERATIONS: usize = 300;
 /// Safety factor on the estimated limit (the Rayleigh quotient underestimates ω²_max slightly).
 pub const CFL_SAFETY: f64 = 0.99;
+
+/// Registry entry: `central_difference` (no parameter).
+pub const ENTRY: Entry<dyn Scheme> = Entry {
+    name: "central_difference",
+    params: &[],
+    build: |_| Ok(Box::new(CentralDifference)),
+};
 
 /// Explicit central difference (no parameter).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,10 +41,6 @@ pub struct CentralDifference;
 impl Scheme for CentralDifference {
     fn name(&self) -> &'static str {
         "central_difference"
-    }
-
-    fn parameters(&self) -> String {
-        String::new()
     }
 
     fn prepare<'p>(

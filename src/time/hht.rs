@@ -10,7 +10,23 @@
 use super::newmark::{Newmark, NewmarkIntegrator};
 use super::{Integrator, Scheme};
 use crate::error::{in_range, Result};
+use crate::method::{Entry, Param};
 use crate::problem::Problem;
+
+/// HHT α.
+pub const ALPHA: Param = Param {
+    name: "alpha",
+    label: "alpha",
+    default: -0.05,
+    help: "HHT α ∈ [−1/3, 0]",
+};
+
+/// Registry entry: `hht` with α.
+pub const ENTRY: Entry<dyn Scheme> = Entry {
+    name: "hht",
+    params: &[&ALPHA],
+    build: |p| Ok(Box::new(Hht::new(p.get(&ALPHA))?)),
+};
 
 /// HHT parameter α ∈ [−⅓, 0].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -38,10 +54,6 @@ impl Hht {
 impl Scheme for Hht {
     fn name(&self) -> &'static str {
         "hht"
-    }
-
-    fn parameters(&self) -> String {
-        format!("alpha={}", self.alpha)
     }
 
     fn prepare<'p>(

@@ -23,6 +23,7 @@ mod stepper;
 
 use crate::contact;
 use crate::error::{Error, Result};
+use crate::method::{Entry, Params};
 use crate::problem::Problem;
 pub use implicit::{LinearSolver, LINEAR_SOLVERS};
 
@@ -66,8 +67,6 @@ pub trait Integrator {
 pub trait Scheme: std::fmt::Debug + Send + Sync {
     /// Name used on the CLI and in outputs.
     fn name(&self) -> &'static str;
-    /// Parameters as `key=value` pairs separated by `;` (for summaries).
-    fn parameters(&self) -> String;
     /// Assembles and factors once; the returned integrator starts from `(U₀, V₀)`.
     fn prepare<'p>(
         &self,
@@ -96,60 +95,24 @@ impl From<Box<dyn contact::Solver>> for Solvers {
     }
 }
 
-/// Scheme names accepted on the CLI.
-pub const SCHEMES: &[&str] = &[
-    "newmark",
-    "hht",
-    "backward_euler",
-    "paoli_schatzman",
-    "moreau_jean",
-    "central_difference",
+/// The schemes, one registry line each (their parameters are declared in their files).
+pub const SCHEMES: &[Entry<dyn Scheme>] = &[
+    newmark::ENTRY,
+    hht::ENTRY,
+    backward_euler::ENTRY,
+    paoli_schatzman::ENTRY,
+    moreau_jean::ENTRY,
+    central_difference::ENTRY,
 ];
 
-/// Scheme parameters as given by a case file or the CLI; each scheme reads its own.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SchemeParams {
-    /// Newmark β.
-    pub beta: f64,
-    /// Newmark γ.
-    pub gamma: f64,
-    /// HHT α ∈ [−⅓, 0].
-    pub alpha: f64,
-    /// Restitution coefficient e ∈ [0, 1] (Paoli–Schatzman, Moreau–Jean).
-    pub restitution: f64,
-    /// Moreau–Jean θ ∈ [½, 1].
-    pub theta: f64,
+/// The registry entry of the scheme called `name`.
+pub fn entry(name: &str) -> Result<&'static Entry<dyn Scheme>> {
+    crate::method::find(SCHEMES, "scheme", name)
 }
 
-impl Default for SchemeParams {
-    fn default() -> Self {
-        Self {
-            beta: 0.25,
-            gamma: 0.5,
-            alpha: -0.05,
-            restitution: 0.0,
-            theta: 0.5,
-        }
-    }
-}
-
-/// The scheme called `name` with validated parameters.
-pub fn by_name(name: &str, p: SchemeParams) -> Result<Box<dyn Scheme>> {
-    Ok(match name {
-        "newmark" => Box::new(newmark::Newmark::new(p.beta, p.gamma)?),
-        "hht" => Box::new(hht::Hht::new(p.alpha)?),
-        "backward_euler" => Box::new(backward_euler::BackwardEuler),
-        "paoli_schatzman" => Box::new(paoli_schatzman::PaoliSchatzman::new(p.restitution)?),
-        "moreau_jean" => Box::new(moreau_jean::MoreauJean::new(p.theta, p.restitution)?),
-        "central_difference" => Box::new(central_difference::CentralDifference),
-        _ => {
-            return Err(Error::UnknownName {
-                kind: "scheme",
-                name: name.to_string(),
-                known: SCHEMES.join(", "),
-            })
-        }
-    })
+/// The scheme called `name` with its parameters read from `p` and validated.
+pub fn by_name(name: &str, p: &Params) -> Result<Box<dyn Scheme>> {
+    (entry(name)?.build)(p)
 }
 
 /// Error if any value of `x` is not finite.

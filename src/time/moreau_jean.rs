@@ -13,11 +13,33 @@
 //! singular dynamic method the inertial variable is the H_h velocity `C⁻¹ B V`.
 
 use super::implicit::ContactStep;
+use super::paoli_schatzman::RESTITUTION;
 use super::stepper::{time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
 use crate::error::{in_range, Result};
 use crate::linalg;
+use crate::method::{Entry, Param};
 use crate::problem::Problem;
+
+/// Moreau–Jean θ.
+pub const THETA: Param = Param {
+    name: "theta",
+    label: "theta",
+    default: 0.5,
+    help: "Moreau–Jean θ ∈ [1/2, 1]",
+};
+
+/// Registry entry: `moreau_jean` with θ and e.
+pub const ENTRY: Entry<dyn Scheme> = Entry {
+    name: "moreau_jean",
+    params: &[&THETA, &RESTITUTION],
+    build: |p| {
+        Ok(Box::new(MoreauJean::new(
+            p.get(&THETA),
+            p.get(&RESTITUTION),
+        )?))
+    },
+};
 
 /// θ ∈ [½, 1] and restitution e ∈ [0, 1].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,10 +62,6 @@ impl MoreauJean {
 impl Scheme for MoreauJean {
     fn name(&self) -> &'static str {
         "moreau_jean"
-    }
-
-    fn parameters(&self) -> String {
-        format!("theta={};restitution={}", self.theta, self.restitution)
     }
 
     fn prepare<'p>(

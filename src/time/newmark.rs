@@ -16,7 +16,30 @@ use super::stepper::{initial_acceleration, time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
 use crate::error::{in_range, positive, Result};
 use crate::linalg;
+use crate::method::{Entry, Param};
 use crate::problem::Problem;
+
+/// Newmark β.
+pub const BETA: Param = Param {
+    name: "beta",
+    label: "beta",
+    default: 0.25,
+    help: "Newmark β ∈ (0, 1/2]",
+};
+/// Newmark γ.
+pub const GAMMA: Param = Param {
+    name: "gamma",
+    label: "gamma",
+    default: 0.5,
+    help: "Newmark γ ∈ [1/2, 1]",
+};
+
+/// Registry entry: `newmark` with β, γ.
+pub const ENTRY: Entry<dyn Scheme> = Entry {
+    name: "newmark",
+    params: &[&BETA, &GAMMA],
+    build: |p| Ok(Box::new(Newmark::new(p.get(&BETA), p.get(&GAMMA))?)),
+};
 
 /// Newmark parameters: `β ∈ (0, ½]`, `γ ∈ [½, 1]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -39,10 +62,6 @@ impl Newmark {
 impl Scheme for Newmark {
     fn name(&self) -> &'static str {
         "newmark"
-    }
-
-    fn parameters(&self) -> String {
-        format!("beta={};gamma={}", self.beta, self.gamma)
     }
 
     fn prepare<'p>(

@@ -19,7 +19,23 @@ use super::stepper::{time_step, Stepper, ThreeLevel};
 use super::{Integrator, Scheme, State, StepInfo};
 use crate::error::{in_range, Result};
 use crate::linalg;
+use crate::method::{Entry, Param};
 use crate::problem::Problem;
+
+/// Newton's restitution coefficient e (also Moreau–Jean's).
+pub const RESTITUTION: Param = Param {
+    name: "restitution",
+    label: "e",
+    default: 0.0,
+    help: "Restitution coefficient e ∈ [0, 1] (paoli_schatzman, moreau_jean; spring_mass: the case's e)",
+};
+
+/// Registry entry: `paoli_schatzman` with e.
+pub const ENTRY: Entry<dyn Scheme> = Entry {
+    name: "paoli_schatzman",
+    params: &[&RESTITUTION],
+    build: |p| Ok(Box::new(PaoliSchatzman::new(p.get(&RESTITUTION))?)),
+};
 
 /// Restitution coefficient e ∈ [0, 1].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -39,10 +55,6 @@ impl PaoliSchatzman {
 impl Scheme for PaoliSchatzman {
     fn name(&self) -> &'static str {
         "paoli_schatzman"
-    }
-
-    fn parameters(&self) -> String {
-        format!("restitution={}", self.restitution)
     }
 
     fn prepare<'p>(

@@ -16,11 +16,9 @@ pub const UNIT_BAR: BarImpact = BarImpact {
 
 /// Run settings for bar1d.
 pub fn run_spec(space: &str, beta: f64, gamma: f64, dt: f64, t_end: f64) -> RunSpec {
-    RunSpec {
-        beta,
-        gamma,
-        ..RunSpec::new(space, "newmark", dt, t_end)
-    }
+    RunSpec::new(space, "newmark", dt, t_end)
+        .with("beta", beta)
+        .with("gamma", gamma)
 }
 
 /// The clamped unit bar with `n` elements of degree `degree`.
