@@ -1,4 +1,4 @@
-//! Contact formulations ([`Formulation`]: [`nodal`], [`penalty`]) and the solvers of the per-step
+//! Contact formulations ([`Formulation`]: [`nodal`], [`weak`], [`penalty`]) and the solvers of the per-step
 //! linear complementarity problem on the contact dofs ([`Solver`]).
 //!
 //! After the predictor solve of an implicit step, the gaps at the new time level are affine in the
@@ -11,6 +11,7 @@ pub mod active_set;
 pub mod clarabel_qp;
 pub mod nodal;
 pub mod penalty;
+pub mod weak;
 
 use crate::error::{Error, Result};
 use crate::method::{Entry, Options};
@@ -76,7 +77,8 @@ pub trait Formulation: Send + Sync + std::fmt::Debug {
 
 /// The contact formulations, one registry line each (their parameters are declared in their
 /// files).
-pub const FORMULATIONS: &[Entry<dyn Formulation, Options>] = &[nodal::ENTRY, penalty::ENTRY];
+pub const FORMULATIONS: &[Entry<dyn Formulation, Options>] =
+    &[nodal::ENTRY, weak::ENTRY, penalty::ENTRY];
 
 /// Default formulation.
 pub const DEFAULT_FORMULATION: &str = "nodal";
