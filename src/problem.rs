@@ -240,6 +240,57 @@ pub struct Contact {
     /// When the rows are not the vertices of Γ_C (P0 multipliers): how their forces spread to
     /// the vertices; None when row i is vertex i.
     pub vertices: Option<VertexMap>,
+    /// The normal stress `σ_N(U)` at each contact point, when the case provides it (Nitsche).
+    pub traction: Option<Traction>,
+    /// Set by the Nitsche formulation: force rows and compliances differ from the gap rows.
+    pub nitsche: Option<NitscheRows>,
+}
+
+/// `σ_N(U) = S U` at each contact point (the trace of the stress of its element) and the local
+/// `h / E` that scales Nitsche's parameter there.
+#[derive(Debug, Clone)]
+pub struct Traction {
+    /// S (n_c × n).
+    pub s: SpMat,
+    /// Mesh size over Young's modulus at each point.
+    pub h_over_e: Vec<f64>,
+}
+
+/// The Nitsche form of the contact rows ([`crate::contact::nitsche`]): with the gap rows
+/// `B_N − γ S`, the force is `Qᵀ λ` (`Q = B_N − θ γ S`) and `λ_i = (w_i/γ_i) [−g_i]₊`, i.e. the
+/// LCP with matrix `D + diag(compliance)`.
+#[derive(Debug, Clone)]
+pub struct NitscheRows {
+    /// Q (n_c × n).
+    pub force: SpMat,
+    /// `γ_i / w_i`.
+    pub compliance: Vec<f64>,
+    /// The boundary part of the energy, per point.
+    pub energy: Vec<BoundaryEnergy>,
+}
+
+/// One point's boundary energy `a (S_i U)² + b [(B_N − γS)_i U − g₀_i]₊²`.
+#[derive(Debug, Clone)]
+pub struct BoundaryEnergy {
+    /// Row `S_i`.
+    pub s: Vec<(usize, f64)>,
+    /// Row `(B_N − γ S)_i`.
+    pub r: Vec<(usize, f64)>,
+    /// g₀_i.
+    pub g0: f64,
+    /// Coefficient of `(S_i U)²`.
+    pub a: f64,
+    /// Coefficient of the positive part squared.
+    pub b: f64,
+}
+
+impl BoundaryEnergy {
+    /// Its value at U.
+    pub fn eval(&self, u: &[f64]) -> f64 {
+        let dot = |row: &[(usize, f64)]| row.iter().map(|&(j, v)| v * u[j]).sum::<f64>();
+        let p = (dot(&self.r) - self.g0).max(0.0);
+        self.a * dot(&self.s).powi(2) + self.b * p * p
+    }
 }
 
 /// A face of Γ_C in terms of the vertex rows it joins: `mass[a·k + b] = ∫_F ψ_a ψ_b` of the
@@ -340,13 +391,17 @@ pub struct EnergyForm {
     load: Option<Vec<f64>>,
     /// [`Problem::energy_shift`].
     shift: f64,
+    /// Nitsche's boundary energy.
+    boundary: Vec<BoundaryEnergy>,
     work: Vec<f64>,
 }
 
 impl EnergyForm {
-    /// `E = ½ vᵀ M v + ½ Uᵀ K U − Fᵀ U (+ shift)`.
+    /// `E = ½ vᵀ M v + ½ Uᵀ K U − Fᵀ U (+ shift)` (+ Nitsche's boundary energy).
     pub fn energy(&mut self, u: &[f64], v: &[f64]) -> f64 {
-        0.5 * self.kinetic.eval(v, &mut self.work) + 0.5 * self.stiffness.eval(u, &mut self.work)
+        0.5 * self.kinetic.eval(v, &mut self.work)
+            + 0.5 * self.stiffness.eval(u, &mut self.work)
+            + self.boundary.iter().map(|b| b.eval(u)).sum::<f64>()
             - self
                 .load
                 .as_ref()
@@ -394,6 +449,11 @@ impl Problem {
             stiffness: linalg::QuadraticForm::new(&self.k),
             load: self.f.iter().any(|&x| x != 0.0).then(|| self.f.clone()),
             shift: self.energy_shift,
+            boundary: self
+                .contact
+                .nitsche
+                .as_ref()
+                .map_or_else(Vec::new, |n| n.energy.clone()),
             work: Vec::new(),
         }
     }

@@ -100,11 +100,11 @@ fn summary_metrics_of_every_combination_are_unchanged() {
             count += 1;
         }
     }
-    // bar1d 5 spaces × 8 schemes, block2d 5 × 2, block3d 5 × 1, spring_mass 7 schemes,
-    // hertz2d 3 spaces, hertz3d 2 + 1.
+    // bar1d 5 spaces × 8 schemes and 3 spaces × 4 contact formulations, block2d 5 × 2,
+    // block3d 5 × 1, spring_mass 7 schemes, hertz2d 3 spaces, hertz3d 2 + 1.
     assert_eq!(
         count,
-        5 * 8 + 5 * 2 + 5 + 7 + 3 + 3,
+        5 * 8 + 3 * 4 + 5 * 2 + 5 + 7 + 3 + 3,
         "one snapshot per case × space × scheme"
     );
 }

@@ -15,7 +15,7 @@ use crate::fem::quadrature::gauss_legendre_01;
 use crate::fem::segment::Segment;
 use crate::linalg::TripletBuilder;
 use crate::mesh::interval::IntervalMesh;
-use crate::problem::{Contact, ContactFace, Probe, Problem};
+use crate::problem::{Contact, ContactFace, Probe, Problem, Traction};
 use crate::space::{ElementMass, ElementMixed, MassModel, Space};
 use serde::Deserialize;
 
@@ -192,6 +192,14 @@ impl Case for Bar1d {
         // Outward normal at x = 0 is −e_x: u_N = −u(0), g = 0 − B_N U = u(0).
         let mut b_n = TripletBuilder::new(1, n);
         b_n.add(0, c0, -1.0);
+        // σ_N = n σ n = E u'(0), from the first element at ξ = 0.
+        let h = s.mesh.h();
+        let mut sigma = TripletBuilder::new(1, n);
+        for (k, dof) in s.element_dofs(0).into_iter().enumerate() {
+            if let Some(d) = dof {
+                sigma.add(0, d, young * s.element.derivative(k, 0.0) / h);
+            }
+        }
         let mut u0 = vec![0.0; n];
         for (i, d) in s.dof_of_node.iter().enumerate() {
             if let Some(d) = d {
@@ -208,6 +216,11 @@ impl Case for Bar1d {
                 area: vec![1.0],
                 faces: vec![ContactFace::point(0)],
                 vertices: None,
+                traction: Some(Traction {
+                    s: sigma.build()?,
+                    h_over_e: vec![h / young],
+                }),
+                nitsche: None,
             },
             u0,
             v0: vec![0.0; n],

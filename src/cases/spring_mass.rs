@@ -154,6 +154,8 @@ impl Case for SpringMassCase {
                 area: vec![1.0],
                 faces: vec![ContactFace::point(0)],
                 vertices: None,
+                traction: None,
+                nitsche: None,
             },
             u0: vec![p.u0],
             v0: vec![p.v0],

@@ -1,4 +1,4 @@
-//! Contact formulations ([`Formulation`]: [`nodal`], [`weak`], [`penalty`]) and the solvers of the per-step
+//! Contact formulations ([`Formulation`]: [`nodal`], [`weak`], [`nitsche`], [`penalty`]) and the solvers of the per-step
 //! linear complementarity problem on the contact dofs ([`Solver`]).
 //!
 //! After the predictor solve of an implicit step, the gaps at the new time level are affine in the
@@ -9,6 +9,7 @@
 
 pub mod active_set;
 pub mod clarabel_qp;
+pub mod nitsche;
 pub mod nodal;
 pub mod penalty;
 pub mod weak;
@@ -66,8 +67,13 @@ pub trait Formulation: Send + Sync + std::fmt::Debug {
     fn label(&self) -> String {
         self.name().to_string()
     }
-    /// The per-step law on the contact rows, given the LCP solver chosen by `--contact-solver`.
-    fn law(&self, solver: Box<dyn Solver>) -> Box<dyn Solver>;
+    /// The per-step law on the contact rows of `problem` (after [`Formulation::contact`]), given
+    /// the LCP solver chosen by `--contact-solver`.
+    fn law(&self, solver: Box<dyn Solver>, problem: &Problem) -> Box<dyn Solver>;
+    /// Refuses a time scheme this formulation does not run with.
+    fn check_scheme(&self, _scheme: &str) -> Result<()> {
+        Ok(())
+    }
     /// Turns the nodal contact rows a case builds (one per vertex of Γ_C) into this
     /// formulation's (the default keeps them).
     fn contact(&self, _problem: &mut Problem) -> Result<()> {
@@ -78,7 +84,7 @@ pub trait Formulation: Send + Sync + std::fmt::Debug {
 /// The contact formulations, one registry line each (their parameters are declared in their
 /// files).
 pub const FORMULATIONS: &[Entry<dyn Formulation, Options>] =
-    &[nodal::ENTRY, weak::ENTRY, penalty::ENTRY];
+    &[nodal::ENTRY, weak::ENTRY, nitsche::ENTRY, penalty::ENTRY];
 
 /// Default formulation.
 pub const DEFAULT_FORMULATION: &str = "nodal";

@@ -4,6 +4,7 @@
 
 use super::{Formulation, Solver};
 use crate::method::{Entry, Options};
+use crate::problem::Problem;
 
 /// Registry entry: `nodal` (no parameter).
 pub const ENTRY: Entry<dyn Formulation, Options> = Entry {
@@ -21,7 +22,7 @@ impl Formulation for Nodal {
         "nodal"
     }
 
-    fn law(&self, solver: Box<dyn Solver>) -> Box<dyn Solver> {
+    fn law(&self, solver: Box<dyn Solver>, _problem: &Problem) -> Box<dyn Solver> {
         solver
     }
 }

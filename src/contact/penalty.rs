@@ -11,6 +11,7 @@
 use super::{Formulation, SolveInfo, Solver};
 use crate::error::{positive, Result};
 use crate::method::{Entry, Options, Param};
+use crate::problem::Problem;
 use nalgebra::DMatrix;
 
 /// Relative compliance r of the penalty.
@@ -48,7 +49,7 @@ impl Formulation for PenaltyContact {
         "penalty"
     }
 
-    fn law(&self, solver: Box<dyn Solver>) -> Box<dyn Solver> {
+    fn law(&self, solver: Box<dyn Solver>, _problem: &Problem) -> Box<dyn Solver> {
         Box::new(Penalty::new(self.ratio, solver))
     }
 }

@@ -127,7 +127,7 @@ impl Formulation for Weak {
         }
     }
 
-    fn law(&self, solver: Box<dyn Solver>) -> Box<dyn Solver> {
+    fn law(&self, solver: Box<dyn Solver>, _problem: &Problem) -> Box<dyn Solver> {
         solver
     }
 

@@ -233,6 +233,8 @@ impl Discretisation {
             area: self.contact_vertices.iter().map(|v| v.1).collect(),
             faces,
             vertices: None,
+            traction: None,
+            nitsche: None,
         })
     }
 

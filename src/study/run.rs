@@ -128,11 +128,12 @@ pub fn run_with_output(
     let scheme = crate::time::by_name(&spec.scheme, spec.params())?;
     let formulation = crate::contact::formulation(&spec.options)?;
     let mut problem = case.problem(space.as_ref())?;
+    formulation.check_scheme(scheme.name())?;
     formulation.contact(&mut problem)?;
-    let solver = formulation.law(crate::contact::by_name(
-        spec.options.contact_solver(),
-        problem.contact.len(),
-    )?);
+    let solver = formulation.law(
+        crate::contact::by_name(spec.options.contact_solver(), problem.contact.len())?,
+        &problem,
+    );
     let field = case.field_error();
     let exact = case.exact();
     let impact = case.impact();

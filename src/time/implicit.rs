@@ -1,6 +1,6 @@
 //! The contact-coupled linear solve shared by the implicit schemes.
 //!
-//! Each step solves `A X = r − c B_Nᵀ λ` with a constant `A = m M + k K` (factored once) and λ
+//! Each step solves `A X = r − c B_Nᵀ λ` (Nitsche: `Qᵀ λ`, see [`crate::contact::nitsche`]) with a constant `A = m M + k K` (factored once) and λ
 //! from the LCP `γ = o − B_N X = q + D λ ≥ 0, λ ≥ 0, λ·γ = 0`, where `X* = A⁻¹ r` (predictor),
 //! `q = o − B_N X*`, `Z = A⁻¹ B_Nᵀ` and `D = c B_N Z` (Delassus operator, n_c × n_c). The offset
 //! `o` is the initial gap g₀ for a position-level law (then γ is the gap at the new level) and a
@@ -233,16 +233,24 @@ impl DirectStep {
         let mixed = op.is_mixed();
         let stored_len = if mixed { n + nw } else { n };
         let store = stored_len * nc <= STORE_Z_LIMIT;
-        let mut b_rows = vec![Vec::new(); nc];
-        for (i, j, v) in linalg::triplets(&problem.contact.b_n) {
-            b_rows[i].push((j, v));
-        }
-        // Columns of Z = A⁻¹ B_Nᵀ by blocks of right-hand sides (blocked triangular solves).
+        let rows = |a: &SpMat| {
+            let mut rows = vec![Vec::new(); nc];
+            for (i, j, v) in linalg::triplets(a) {
+                rows[i].push((j, v));
+            }
+            rows
+        };
+        let b_rows = rows(&problem.contact.b_n);
+        // The force rows: B_N, or Nitsche's Q (then D = c B_N A⁻¹ Qᵀ is not symmetric).
+        let nitsche = problem.contact.nitsche.as_ref();
+        let force = nitsche.map_or(&problem.contact.b_n, |n| &n.force);
+        let f_rows = rows(force);
+        // Columns of Z = A⁻¹ Qᵀ by blocks of right-hand sides (blocked triangular solves).
         for start in (0..nc).step_by(BLOCK) {
             let cols = BLOCK.min(nc - start);
             let mut u = vec![0.0; n * cols];
             let mut w = vec![0.0; nw * cols];
-            for (k, row) in b_rows[start..start + cols].iter().enumerate() {
+            for (k, row) in f_rows[start..start + cols].iter().enumerate() {
                 for &(j, v) in row {
                     u[k * n + j] += v;
                 }
@@ -261,7 +269,11 @@ impl DirectStep {
                 }
             }
         }
-        let d = (&d + d.transpose()) * 0.5;
+        let d = if nitsche.is_some() {
+            d
+        } else {
+            (&d + d.transpose()) * 0.5
+        };
         Ok(Self {
             op,
             solver,
@@ -317,7 +329,12 @@ impl DirectStep {
             }
             None => {
                 self.rhs.copy_from_slice(r);
-                linalg::mul_t_add(&mut self.rhs, &problem.contact.b_n, lambda, -self.c);
+                let force = problem
+                    .contact
+                    .nitsche
+                    .as_ref()
+                    .map_or(&problem.contact.b_n, |n| &n.force);
+                linalg::mul_t_add(&mut self.rhs, force, lambda, -self.c);
                 self.op.solve(&self.rhs, u, w);
             }
         }

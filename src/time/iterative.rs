@@ -210,6 +210,11 @@ fn row_times(a: &SpMat, d: usize, u: &[f64]) -> f64 {
 
 /// `(d_i, b_i)` of every contact point, or why `B_N` is not nodal along axes.
 pub fn nodal_points(problem: &Problem) -> Result<Vec<(usize, f64)>> {
+    if problem.contact.nitsche.is_some() {
+        return Err(Error::Unsupported(
+            "linear solver cg needs nodal contact, not nitsche (use direct)".into(),
+        ));
+    }
     let b_n = &problem.contact.b_n;
     let mut points: Vec<Option<(usize, f64)>> = vec![None; b_n.nrows()];
     let mut seen = vec![false; b_n.ncols()];
