@@ -92,6 +92,15 @@ impl TripletBuilder {
     }
 }
 
+/// The rows of a sparse matrix as `(column, value)` lists (short rows, e.g. contact rows).
+pub fn rows(m: &SpMat) -> Vec<Vec<(usize, f64)>> {
+    let mut rows = vec![Vec::new(); m.nrows()];
+    for (i, j, v) in triplets(m) {
+        rows[i].push((j, v));
+    }
+    rows
+}
+
 /// Stored entries `(row, col, value)` of a sparse matrix.
 pub fn triplets(m: &SpMat) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
     let m = m.as_ref();

@@ -10,6 +10,7 @@
 
 use crate::error::{Error, Result};
 use crate::linalg::{self, Factor, SpMat, TripletBuilder};
+use std::borrow::Cow;
 
 /// The mass operator as a space produces it (built once per run: variant sizes do not matter).
 #[derive(Debug)]
@@ -323,11 +324,16 @@ pub struct VertexMap {
 }
 
 impl Contact {
+    /// The rows whose transpose applies the contact force (`−Qᵀ λ`): B_N, or Nitsche's Q.
+    pub fn force_rows(&self) -> &SpMat {
+        self.nitsche.as_ref().map_or(&self.b_n, |n| &n.force)
+    }
+
     /// The contact forces per vertex of Γ_C and the vertices' areas (λ and `area` themselves when
     /// the rows are the vertices).
-    pub fn vertex_forces(&self, lambda: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    pub fn vertex_forces<'a>(&'a self, lambda: &'a [f64]) -> (Cow<'a, [f64]>, &'a [f64]) {
         match &self.vertices {
-            None => (lambda.to_vec(), self.area.clone()),
+            None => (Cow::Borrowed(lambda), &self.area),
             Some(map) => {
                 let mut f = vec![0.0; map.area.len()];
                 for (l, row) in lambda.iter().zip(&map.shares) {
@@ -335,7 +341,7 @@ impl Contact {
                         f[v] += w * l;
                     }
                 }
-                (f, map.area.clone())
+                (Cow::Owned(f), &map.area)
             }
         }
     }

@@ -82,15 +82,6 @@ impl Nitsche {
     }
 }
 
-/// Rows of a sparse matrix as `(column, value)` lists.
-fn rows_of(a: &linalg::SpMat) -> Vec<Vec<(usize, f64)>> {
-    let mut rows = vec![Vec::new(); a.nrows()];
-    for (i, j, v) in linalg::triplets(a) {
-        rows[i].push((j, v));
-    }
-    rows
-}
-
 /// `b − c s` of two sparse rows.
 fn combine(b: &[(usize, f64)], s: &[(usize, f64)], c: f64) -> Vec<(usize, f64)> {
     b.iter()
@@ -121,7 +112,10 @@ impl Formulation for Nitsche {
             .nitsche
             .as_ref()
             .map_or_else(Vec::new, |n| n.compliance.clone());
-        Box::new(NitscheLaw { compliance })
+        Box::new(NitscheLaw {
+            compliance,
+            h: DMatrix::zeros(0, 0),
+        })
     }
 
     fn contact(&self, problem: &mut Problem) -> Result<()> {
@@ -132,7 +126,7 @@ impl Formulation for Nitsche {
                     .into(),
             )
         })?;
-        let (b, s) = (rows_of(&contact.b_n), rows_of(&traction.s));
+        let (b, s) = (linalg::rows(&contact.b_n), linalg::rows(&traction.s));
         let n = problem.k.ncols();
         let mut gap = TripletBuilder::new(contact.len(), n);
         let mut force = TripletBuilder::new(contact.len(), n);
@@ -179,6 +173,8 @@ impl Formulation for Nitsche {
 #[derive(Debug, Clone)]
 pub struct NitscheLaw {
     compliance: Vec<f64>,
+    /// Workspace for `D + diag(γ/w)`.
+    h: DMatrix<f64>,
 }
 
 impl Solver for NitscheLaw {
@@ -193,10 +189,7 @@ impl Solver for NitscheLaw {
         lambda: &mut [f64],
     ) -> std::result::Result<SolveInfo, String> {
         let n = q.len();
-        let mut h = d.clone();
-        for (i, c) in self.compliance.iter().enumerate() {
-            h[(i, i)] += c;
-        }
+        let h = super::penalty::shifted(&mut self.h, d, |i| self.compliance[i]);
         let mut active: Vec<usize> = Vec::new();
         for it in 1..=MAX_ITERATIONS {
             let y: Vec<f64> = (0..n)

@@ -83,14 +83,28 @@ impl Solver for Penalty {
         q: &[f64],
         lambda: &mut [f64],
     ) -> std::result::Result<SolveInfo, String> {
-        let n = q.len();
-        let eps = self.ratio * (0..n).fold(0.0f64, |m, i| m.max(d[(i, i)]));
-        self.regularised.clone_from(d);
-        for i in 0..n {
-            self.regularised[(i, i)] += eps;
-        }
-        self.exact.solve(&self.regularised, q, lambda)
+        let eps = self.ratio * (0..q.len()).fold(0.0f64, |m, i| m.max(d[(i, i)]));
+        let regularised = shifted(&mut self.regularised, d, |_| eps);
+        self.exact.solve(regularised, q, lambda)
     }
+}
+
+/// `D + diag(shift_i)` written into the workspace `out` (allocated on the first call only: the
+/// per-step laws reuse it).
+pub(crate) fn shifted<'w>(
+    out: &'w mut DMatrix<f64>,
+    d: &DMatrix<f64>,
+    shift: impl Fn(usize) -> f64,
+) -> &'w DMatrix<f64> {
+    if out.shape() != d.shape() {
+        *out = d.clone();
+    } else {
+        out.copy_from(d);
+    }
+    for i in 0..d.nrows() {
+        out[(i, i)] += shift(i);
+    }
+    out
 }
 
 #[cfg(test)]

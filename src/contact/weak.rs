@@ -145,10 +145,7 @@ impl Formulation for Weak {
             )));
         }
         let contact = &mut problem.contact;
-        let mut nodal = vec![Vec::new(); n_c];
-        for (i, j, v) in linalg::triplets(&contact.b_n) {
-            nodal[i].push((j, v));
-        }
+        let nodal = linalg::rows(&contact.b_n);
         let mut b = TripletBuilder::new(rows.len(), contact.b_n.ncols());
         let mut g0: Vec<f64> = Vec::with_capacity(rows.len());
         for (r, row) in rows.iter().enumerate() {

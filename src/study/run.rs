@@ -221,10 +221,11 @@ pub fn run_with_output(
     );
     // The impact metrics and figures read forces per vertex of Γ_C.
     let (vertex_lambda, vertex_area) = problem.contact.vertex_forces(&peak.lambda);
-    peak.lambda = vertex_lambda;
+    let vertex_lambda = vertex_lambda.into_owned();
     if let Some(i) = &impact {
-        metrics::hertz(&mut metrics, &rows, (&peak.lambda, &vertex_area), i);
+        metrics::hertz(&mut metrics, &rows, (&vertex_lambda, vertex_area), i);
     }
+    peak.lambda = vertex_lambda;
     Ok(RunResult {
         rows,
         peak: impact.is_some().then_some(peak),

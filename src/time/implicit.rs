@@ -233,18 +233,9 @@ impl DirectStep {
         let mixed = op.is_mixed();
         let stored_len = if mixed { n + nw } else { n };
         let store = stored_len * nc <= STORE_Z_LIMIT;
-        let rows = |a: &SpMat| {
-            let mut rows = vec![Vec::new(); nc];
-            for (i, j, v) in linalg::triplets(a) {
-                rows[i].push((j, v));
-            }
-            rows
-        };
-        let b_rows = rows(&problem.contact.b_n);
+        let b_rows = linalg::rows(&problem.contact.b_n);
         // The force rows: B_N, or Nitsche's Q (then D = c B_N A⁻¹ Qᵀ is not symmetric).
-        let nitsche = problem.contact.nitsche.as_ref();
-        let force = nitsche.map_or(&problem.contact.b_n, |n| &n.force);
-        let f_rows = rows(force);
+        let f_rows = linalg::rows(problem.contact.force_rows());
         // Columns of Z = A⁻¹ Qᵀ by blocks of right-hand sides (blocked triangular solves).
         for start in (0..nc).step_by(BLOCK) {
             let cols = BLOCK.min(nc - start);
@@ -269,7 +260,7 @@ impl DirectStep {
                 }
             }
         }
-        let d = if nitsche.is_some() {
+        let d = if problem.contact.nitsche.is_some() {
             d
         } else {
             (&d + d.transpose()) * 0.5
@@ -329,12 +320,7 @@ impl DirectStep {
             }
             None => {
                 self.rhs.copy_from_slice(r);
-                let force = problem
-                    .contact
-                    .nitsche
-                    .as_ref()
-                    .map_or(&problem.contact.b_n, |n| &n.force);
-                linalg::mul_t_add(&mut self.rhs, force, lambda, -self.c);
+                linalg::mul_t_add(&mut self.rhs, problem.contact.force_rows(), lambda, -self.c);
                 self.op.solve(&self.rhs, u, w);
             }
         }
