@@ -91,6 +91,9 @@ enum Command {
         /// Number of elements.
         #[arg(long)]
         elements: Option<usize>,
+        /// Cell shape of a generated 2D/3D mesh: quad or triangle (2D), hex or tet (3D).
+        #[arg(long)]
+        cells: Option<String>,
         /// A Gmsh mesh (MSH 4.1) replacing the case's mesh (2D/3D body cases; Γ_C is the
         /// physical group `contact`, or the case's `[contact] group`).
         #[arg(long)]
@@ -264,6 +267,7 @@ fn main_result(cli: Cli) -> Result<()> {
             options,
             degree,
             elements,
+            cells,
             mesh,
             dt,
             t_end,
@@ -277,6 +281,7 @@ fn main_result(cli: Cli) -> Result<()> {
                 options,
                 degree,
                 elements,
+                cells,
                 mesh,
                 dt,
                 t_end,

@@ -85,6 +85,10 @@ fn bad_command_line_values_give_clear_errors() {
         "missing.toml",
     );
     assert_clear_error(
+        &dyncontact(&["run", "cases/block2d.toml", "--cells", "hex", "--out", o]),
+        "mesh.cells",
+    );
+    assert_clear_error(
         &dyncontact(&[
             "run",
             "cases/bar1d.toml",

@@ -192,8 +192,8 @@ fn check_material(m: &Material) -> Result<()> {
 }
 
 /// The reference element of a generated mesh (`[mesh] cells`, degree).
-fn generated_element(spec: &MeshSpec, dim: usize, degree: usize) -> Result<RefElement> {
-    let shape = match (spec.cells.as_str(), dim) {
+fn generated_element(cells: &str, dim: usize, degree: usize) -> Result<RefElement> {
+    let shape = match (cells, dim) {
         ("quad", 2) | ("hex", 3) => Shape::Tensor,
         ("triangle", 2) | ("tet", 3) => Shape::Simplex,
         (c, _) => {
@@ -233,7 +233,8 @@ fn build_mesh(
         return Ok((mesh, ContactRule::Tagged));
     }
     let degree = o.degree.unwrap_or(spec.mesh.degree);
-    let element = generated_element(&spec.mesh, dim, degree)?;
+    let cells = o.cells.as_deref().unwrap_or(&spec.mesh.cells);
+    let element = generated_element(cells, dim, degree)?;
     let n = o.elements.unwrap_or(spec.mesh.elements);
     if n == 0 {
         return Err(Error::invalid("mesh.elements", n, "must be ≥ 1"));

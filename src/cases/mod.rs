@@ -213,6 +213,8 @@ pub struct Overrides {
     pub degree: Option<usize>,
     /// `--elements`.
     pub elements: Option<usize>,
+    /// `--cells`: the cell shape of a generated 2D/3D mesh.
+    pub cells: Option<String>,
     /// `--mesh`: a Gmsh file replacing the case's mesh.
     pub mesh: Option<PathBuf>,
     /// `--dt`.

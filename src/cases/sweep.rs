@@ -180,6 +180,7 @@ fn combination(
         options: choice.options.clone(),
         degree: degree.get(space).copied(),
         elements: level.elements,
+        cells: None,
         mesh: None,
         dt: Some(level.dt),
         t_end,
