@@ -22,6 +22,7 @@ use crate::error::{Error, Result};
 use crate::study::jobs::{self, RunRecord};
 use crate::study::journal::run_study;
 use crate::study::orders;
+use crate::study::peers::{self, Agreement};
 use crate::study::records::{read_records, write_records, write_timings};
 use crate::study::reference;
 use figures::{convergence_figures, time_histories, Figure};
@@ -75,7 +76,13 @@ pub fn report(cases_dir: &Path, out: &Path, opts: Options) -> Result<Vec<RunReco
     for f in &files {
         figures.extend(time_histories(f, out, opts.quick)?);
     }
-    write(out, &records, figures, opts.quick)?;
+    let peers_dir = cases_dir
+        .parent()
+        .unwrap_or(Path::new(""))
+        .join("golden/peers");
+    let agreements = peers::compare_all(&peers_dir, cases_dir)?;
+    peers::write_cross_code(&out.join("cross_code.csv"), &agreements)?;
+    write(out, &records, figures, &agreements, opts.quick)?;
     Ok(records)
 }
 
@@ -86,15 +93,21 @@ pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
     for f in files {
         records.extend(read_records(f)?);
     }
-    write(out, &records, Vec::new(), false)?;
+    write(out, &records, Vec::new(), &[], false)?;
     Ok(records)
 }
 
-fn write(out: &Path, records: &[RunRecord], mut figures: Vec<Figure>, quick: bool) -> Result<()> {
+fn write(
+    out: &Path,
+    records: &[RunRecord],
+    mut figures: Vec<Figure>,
+    peers: &[Agreement],
+    quick: bool,
+) -> Result<()> {
     write_records(&out.join("summary.csv"), records, false)?;
     write_timings(&out.join("timings.csv"), records)?;
     let orders = orders::orders(records);
     orders::write_orders(&out.join("orders.csv"), &orders)?;
     figures.splice(0..0, convergence_figures(out, records)?);
-    index::write_index(out, records, &orders, &figures, quick)
+    index::write_index(out, records, &orders, &figures, peers, quick)
 }

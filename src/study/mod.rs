@@ -9,6 +9,7 @@ pub mod jobs;
 pub mod journal;
 pub mod metrics;
 pub mod orders;
+pub mod peers;
 pub mod records;
 pub mod reference;
 pub mod run;

@@ -1,0 +1,254 @@
+//! Cross-code check against GetFEM (`golden/peers/README.md`): trajectories GetFEM computes on
+//! the discretisations of dyncontact's cases — same mesh, consistent mass, Newmark ½, ½, a contact
+//! brick — checked in as CSV (`t, u_contact, sigma_contact, energy`), and dyncontact's run with the
+//! same settings, compared sample by sample.
+//!
+//! Agreement is measured relative to the scale of each peer series:
+//! `max_t |x − x_peer| / max_t |x_peer|` for the probe displacement and contact stress, and
+//! `max_t |E − E_peer| / E_peer(0)` for the energy.
+
+use crate::cases::{self, Overrides};
+use crate::error::{Error, Result};
+use crate::study::run::run;
+use std::path::Path;
+
+/// Relative difference below which two trajectories are taken as the same (the horizon).
+pub const SYNC: f64 = 1e-6;
+
+/// One GetFEM reference run and the dyncontact settings that reproduce its discretisation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeerRun {
+    /// CSV file under the peers directory.
+    pub file: String,
+    /// Case file under the cases directory.
+    pub case: &'static str,
+    /// GetFEM contact brick: `integral` (P1 multiplier) or `nodal`.
+    pub brick: &'static str,
+    /// dyncontact's contact formulation for that brick (`weak` P1 or `nodal`).
+    pub contact: &'static str,
+    /// Cell shape of the generated mesh (2D cases).
+    pub cells: Option<&'static str>,
+    /// Elements (per direction).
+    pub elements: usize,
+    /// Time step.
+    pub dt: f64,
+    /// Final time.
+    pub t_end: f64,
+}
+
+/// The runs of `golden/peers/generate.py`:
+/// - bar1d, P1, 20/40/80/160 elements, dt = h/2, T = 3, integral brick (the end point);
+/// - block2d, Q1 and P1 triangles 10 × 10, dt = 10⁻³ and 10⁻⁴, T = 2, nodal and integral bricks.
+pub fn getfem_runs() -> Vec<PeerRun> {
+    let mut runs: Vec<PeerRun> = [20, 40, 80, 160]
+        .into_iter()
+        .map(|n| PeerRun {
+            file: format!("bar1d_p1_n{n}_integral.csv"),
+            case: "bar1d.toml",
+            brick: "integral",
+            contact: "weak",
+            cells: None,
+            elements: n,
+            dt: 0.5 / n as f64,
+            t_end: 3.0,
+        })
+        .collect();
+    for (cells, shape) in [("q1", "quad"), ("p1", "triangle")] {
+        for (dt, tag) in [(1e-3, "1e-03"), (1e-4, "1e-04")] {
+            for (brick, contact) in [("nodal", "nodal"), ("integral", "weak")] {
+                runs.push(PeerRun {
+                    file: format!("block2d_{cells}_dt{tag}_{brick}.csv"),
+                    case: "block2d.toml",
+                    brick,
+                    contact,
+                    cells: Some(shape),
+                    elements: 10,
+                    dt,
+                    t_end: 2.0,
+                });
+            }
+        }
+    }
+    runs
+}
+
+/// One sample of a peer trajectory.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
+pub struct PeerRow {
+    /// Time.
+    pub t: f64,
+    /// Normal displacement of the probe.
+    pub u_contact: f64,
+    /// Normal contact stress at the probe (compression negative).
+    pub sigma_contact: f64,
+    /// `½ V·M V + ½ U·K U`.
+    pub energy: f64,
+}
+
+/// Reads a peer CSV.
+pub fn read_peer(path: &Path) -> Result<Vec<PeerRow>> {
+    let err = |m: String| Error::Csv {
+        path: path.to_path_buf(),
+        message: m,
+    };
+    let mut reader = csv::Reader::from_path(path).map_err(|e| err(e.to_string()))?;
+    let rows = reader
+        .deserialize()
+        .collect::<std::result::Result<Vec<PeerRow>, _>>()
+        .map_err(|e| err(e.to_string()))?;
+    if rows.is_empty() {
+        return Err(err("no samples".into()));
+    }
+    Ok(rows)
+}
+
+/// How far dyncontact is from a peer run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Agreement {
+    /// The peer run.
+    pub run: PeerRun,
+    /// Samples compared.
+    pub samples: usize,
+    /// The first sample time at which a relative difference exceeds [`SYNC`] (the final time
+    /// if none does).
+    pub horizon: f64,
+    /// `max |Δu| / max |u_peer|`.
+    pub u: f64,
+    /// `max |Δσ| / max |σ_peer|`.
+    pub sigma: f64,
+    /// `max |ΔE| / E_peer(0)`.
+    pub energy: f64,
+    /// `max_t E / E(0)` of the peer and of dyncontact (energy growth, seed figure 3).
+    pub energy_growth: (f64, f64),
+    /// `max_t |σ|` of the peer and of dyncontact (stress peaks).
+    pub sigma_peak: (f64, f64),
+}
+
+/// Runs dyncontact on the discretisation of `peer` (standard mass, Newmark ½, ½) and compares
+/// it with the peer CSV in `peers_dir`.
+pub fn compare(peer: &PeerRun, peers_dir: &Path, cases_dir: &Path) -> Result<Agreement> {
+    let reference = read_peer(&peers_dir.join(&peer.file))?;
+    let mut o = Overrides {
+        space: Some("standard".into()),
+        scheme: Some("newmark".into()),
+        elements: Some(peer.elements),
+        cells: peer.cells.map(Into::into),
+        dt: Some(peer.dt),
+        t_end: Some(peer.t_end),
+        ..Default::default()
+    }
+    .with("beta", 0.5)
+    .with("gamma", 0.5);
+    o.options.contact = Some(peer.contact.into());
+    let ours = run(cases::load(&cases_dir.join(peer.case), &o)?.as_ref())?.rows;
+    let mut pairs = Vec::with_capacity(reference.len());
+    let mut k = 0;
+    for p in &reference {
+        while k < ours.len() && ours[k].t < p.t - 0.5 * peer.dt {
+            k += 1;
+        }
+        match ours.get(k) {
+            Some(r) if (r.t - p.t).abs() <= 0.5 * peer.dt => pairs.push((p, r)),
+            _ => {
+                return Err(Error::Unsupported(format!(
+                    "{}: no dyncontact sample at t = {}",
+                    peer.file, p.t
+                )))
+            }
+        }
+    }
+    let max = |f: &dyn Fn(&(&PeerRow, &crate::study::trajectory::Row)) -> f64| {
+        pairs.iter().map(f).fold(0.0, f64::max)
+    };
+    let scale = |x: f64| if x > 0.0 { x } else { 1.0 };
+    let e0 = (reference[0].energy, ours[0].energy);
+    let (su, ss) = (
+        scale(max(&|(p, _)| p.u_contact.abs())),
+        scale(max(&|(p, _)| p.sigma_contact.abs())),
+    );
+    let differs = |(p, r): &&(&PeerRow, &crate::study::trajectory::Row)| {
+        (r.u_contact - p.u_contact).abs() / su > SYNC
+            || (r.sigma_contact - p.sigma_contact).abs() / ss > SYNC
+            || (r.energy - p.energy).abs() / scale(e0.0) > SYNC
+    };
+    let horizon = pairs.iter().find(differs).map_or(peer.t_end, |(p, _)| p.t);
+    Ok(Agreement {
+        run: peer.clone(),
+        samples: pairs.len(),
+        horizon,
+        u: max(&|(p, r)| (r.u_contact - p.u_contact).abs())
+            / scale(max(&|(p, _)| p.u_contact.abs())),
+        sigma: max(&|(p, r)| (r.sigma_contact - p.sigma_contact).abs())
+            / scale(max(&|(p, _)| p.sigma_contact.abs())),
+        energy: max(&|(p, r)| (r.energy - p.energy).abs()) / scale(e0.0),
+        energy_growth: (
+            max(&|(p, _)| p.energy) / scale(e0.0),
+            max(&|(_, r)| r.energy) / scale(e0.1),
+        ),
+        sigma_peak: (
+            max(&|(p, _)| p.sigma_contact.abs()),
+            max(&|(_, r)| r.sigma_contact.abs()),
+        ),
+    })
+}
+
+/// Every run of [`getfem_runs`], compared in parallel; none when `peers_dir` does not exist.
+pub fn compare_all(peers_dir: &Path, cases_dir: &Path) -> Result<Vec<Agreement>> {
+    use rayon::prelude::*;
+    if !peers_dir.is_dir() {
+        return Ok(Vec::new());
+    }
+    getfem_runs()
+        .par_iter()
+        .map(|r| compare(r, peers_dir, cases_dir))
+        .collect()
+}
+
+/// Columns of `cross_code.csv`.
+pub const COLUMNS: &[&str] = &[
+    "file",
+    "brick",
+    "contact",
+    "cells",
+    "elements",
+    "dt",
+    "t_end",
+    "samples",
+    "horizon",
+    "max_rel_u",
+    "max_rel_sigma",
+    "max_rel_energy",
+    "energy_growth_getfem",
+    "energy_growth_dyncontact",
+    "sigma_peak_getfem",
+    "sigma_peak_dyncontact",
+];
+
+/// One row of `cross_code.csv` (floats to 12 significant digits, deterministic).
+pub fn row(a: &Agreement) -> Vec<String> {
+    let f = |x: f64| crate::output::fmt_float(Some(x));
+    let r = &a.run;
+    vec![
+        r.file.clone(),
+        r.brick.into(),
+        r.contact.into(),
+        r.cells.unwrap_or("").into(),
+        r.elements.to_string(),
+        f(r.dt),
+        f(r.t_end),
+        a.samples.to_string(),
+        f(a.horizon),
+        f(a.u),
+        f(a.sigma),
+        f(a.energy),
+        f(a.energy_growth.0),
+        f(a.energy_growth.1),
+        f(a.sigma_peak.0),
+        f(a.sigma_peak.1),
+    ]
+}
+
+/// Writes `cross_code.csv`.
+pub fn write_cross_code(path: &Path, agreements: &[Agreement]) -> Result<()> {
+    crate::output::csv::write_rows(path, COLUMNS, agreements.iter().map(row))
+}
