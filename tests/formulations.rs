@@ -155,8 +155,8 @@ fn symmetric_nitsche_keeps_the_nodal_energy_behaviour() {
     );
 }
 
-/// Nitsche is refused with the impact-law and explicit schemes, and on a case that gives no
-/// σ_N on Γ_C, with messages that say why.
+/// Nitsche is refused with the impact-law and explicit schemes, with an LCP solver it would
+/// ignore, and on a case that gives no σ_N on Γ_C, with messages that say why.
 #[test]
 fn nitsche_is_refused_where_it_does_not_apply() {
     for scheme in ["paoli_schatzman", "moreau_jean", "central_difference"] {
@@ -166,6 +166,17 @@ fn nitsche_is_refused_where_it_does_not_apply() {
         let e = run(&bar(20, 1, spec)).err().unwrap().to_string();
         assert!(e.contains("nitsche contact runs with"), "{scheme}: {e}");
     }
+    let mut o = Overrides {
+        t_end: Some(0.1),
+        ..Default::default()
+    };
+    o.options.contact = Some("nitsche".into());
+    o.options.contact_solver = Some("clarabel".into());
+    let e = cases::load(Path::new("cases/bar1d.toml"), &o)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("run.contact_solver"), "{e}");
     let mut o = Overrides {
         elements: Some(4),
         t_end: Some(0.01),

@@ -163,6 +163,15 @@ impl RunSpec {
                 "applies to contact = \"weak\" only",
             ));
         }
+        // Nitsche solves its own semismooth Newton (an active set) per step: another LCP solver
+        // would be silently ignored.
+        if self.options.contact() == "nitsche" && self.options.contact_solver() != "active_set" {
+            return Err(Error::invalid(
+                "run.contact_solver",
+                self.options.contact_solver(),
+                "contact = \"nitsche\" solves its own semismooth Newton per step",
+            ));
+        }
         crate::contact::by_name(self.options.contact_solver(), 0)?;
         crate::time::LinearSolver::by_name(self.options.linear_solver())?;
         Ok(())
