@@ -10,6 +10,7 @@
 use crate::cases::{self, Overrides};
 use crate::error::{Error, Result};
 use crate::study::run::run;
+use crate::study::trajectory::Row;
 use std::path::Path;
 
 /// Relative difference below which two trajectories are taken as the same (the horizon).
@@ -141,55 +142,63 @@ pub fn compare(peer: &PeerRun, peers_dir: &Path, cases_dir: &Path) -> Result<Agr
     .with("gamma", 0.5);
     o.options.contact = Some(peer.contact.into());
     let ours = run(cases::load(&cases_dir.join(peer.case), &o)?.as_ref())?.rows;
-    let mut pairs = Vec::with_capacity(reference.len());
-    let mut k = 0;
-    for p in &reference {
-        while k < ours.len() && ours[k].t < p.t - 0.5 * peer.dt {
-            k += 1;
-        }
-        match ours.get(k) {
-            Some(r) if (r.t - p.t).abs() <= 0.5 * peer.dt => pairs.push((p, r)),
-            _ => {
-                return Err(Error::Unsupported(format!(
-                    "{}: no dyncontact sample at t = {}",
-                    peer.file, p.t
-                )))
-            }
-        }
-    }
-    let max = |f: &dyn Fn(&(&PeerRow, &crate::study::trajectory::Row)) -> f64| {
-        pairs.iter().map(f).fold(0.0, f64::max)
-    };
+    let pairs = pair_samples(peer, &reference, &ours)?;
+    let max = |f: &dyn Fn(&Pair) -> f64| pairs.iter().map(f).fold(0.0, f64::max);
     let scale = |x: f64| if x > 0.0 { x } else { 1.0 };
-    let e0 = (reference[0].energy, ours[0].energy);
-    let (su, ss) = (
+    let peak = max(&|(p, _)| p.sigma_contact.abs());
+    let (su, ss, se) = (
         scale(max(&|(p, _)| p.u_contact.abs())),
-        scale(max(&|(p, _)| p.sigma_contact.abs())),
+        scale(peak),
+        scale(reference[0].energy),
     );
-    let differs = |(p, r): &&(&PeerRow, &crate::study::trajectory::Row)| {
-        (r.u_contact - p.u_contact).abs() / su > SYNC
-            || (r.sigma_contact - p.sigma_contact).abs() / ss > SYNC
-            || (r.energy - p.energy).abs() / scale(e0.0) > SYNC
-    };
-    let horizon = pairs.iter().find(differs).map_or(peer.t_end, |(p, _)| p.t);
+    let du = |(p, r): &Pair| (r.u_contact - p.u_contact).abs() / su;
+    let ds = |(p, r): &Pair| (r.sigma_contact - p.sigma_contact).abs() / ss;
+    let de = |(p, r): &Pair| (r.energy - p.energy).abs() / se;
+    let horizon = pairs
+        .iter()
+        .find(|x| du(x) > SYNC || ds(x) > SYNC || de(x) > SYNC)
+        .map_or(peer.t_end, |(p, _)| p.t);
     Ok(Agreement {
         run: peer.clone(),
         samples: pairs.len(),
         horizon,
-        u: max(&|(p, r)| (r.u_contact - p.u_contact).abs())
-            / scale(max(&|(p, _)| p.u_contact.abs())),
-        sigma: max(&|(p, r)| (r.sigma_contact - p.sigma_contact).abs())
-            / scale(max(&|(p, _)| p.sigma_contact.abs())),
-        energy: max(&|(p, r)| (r.energy - p.energy).abs()) / scale(e0.0),
+        u: max(&du),
+        sigma: max(&ds),
+        energy: max(&de),
         energy_growth: (
-            max(&|(p, _)| p.energy) / scale(e0.0),
-            max(&|(_, r)| r.energy) / scale(e0.1),
+            max(&|(p, _)| p.energy) / se,
+            max(&|(_, r)| r.energy) / scale(ours[0].energy),
         ),
-        sigma_peak: (
-            max(&|(p, _)| p.sigma_contact.abs()),
-            max(&|(_, r)| r.sigma_contact.abs()),
-        ),
+        sigma_peak: (peak, max(&|(_, r)| r.sigma_contact.abs())),
     })
+}
+
+/// A peer sample and dyncontact's at the same time.
+type Pair<'a> = (&'a PeerRow, &'a Row);
+
+/// dyncontact's sample at each peer time (within dt/2); an error names the first peer time
+/// without one.
+fn pair_samples<'a>(
+    peer: &PeerRun,
+    reference: &'a [PeerRow],
+    ours: &'a [Row],
+) -> Result<Vec<Pair<'a>>> {
+    let mut k = 0;
+    reference
+        .iter()
+        .map(|p| {
+            while k < ours.len() && ours[k].t < p.t - 0.5 * peer.dt {
+                k += 1;
+            }
+            match ours.get(k) {
+                Some(r) if (r.t - p.t).abs() <= 0.5 * peer.dt => Ok((p, r)),
+                _ => Err(Error::Unsupported(format!(
+                    "{}: no dyncontact sample at t = {}",
+                    peer.file, p.t
+                ))),
+            }
+        })
+        .collect()
 }
 
 /// Every run of [`getfem_runs`], compared in parallel; none when `peers_dir` does not exist.
