@@ -10,42 +10,44 @@
 //! which the relative differences stay below `SYNC` = 1e-6, with the measured horizons in the
 //! comments, and over the whole run the quantities that do not depend on the chaotic phase.
 
-use dyncontact::study::peers::{compare, getfem_runs, Agreement};
+use dyncontact::study::peers::{compare_all, Agreement};
 use std::path::Path;
 use std::sync::OnceLock;
 
-/// Every comparison, computed once for all the tests of this file.
+/// Every comparison ([`compare_all`], in parallel), computed once for all the tests of this file.
 fn agreements() -> &'static [Agreement] {
     static ALL: OnceLock<Vec<Agreement>> = OnceLock::new();
     ALL.get_or_init(|| {
-        getfem_runs()
-            .iter()
-            .map(|r| {
-                let a = compare(r, Path::new("golden/peers"), Path::new("cases"))
-                    .unwrap_or_else(|e| panic!("{}: {e}", r.file));
-                println!(
-                    "{}: horizon {}, max relative differences u {:.2e}, σ {:.2e}, E {:.2e}; \
-                     max E/E(0) {:.6} / {:.6}; peak |σ| {:.4} / {:.4} (GetFEM / dyncontact)",
-                    r.file,
-                    a.horizon,
-                    a.u,
-                    a.sigma,
-                    a.energy,
-                    a.energy_growth.0,
-                    a.energy_growth.1,
-                    a.sigma_peak.0,
-                    a.sigma_peak.1
-                );
-                a
-            })
-            .collect()
+        let all = compare_all(Path::new("golden/peers"), Path::new("cases"))
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(all.len(), 12, "every GetFEM run is compared");
+        for a in &all {
+            println!(
+                "{}: horizon {}, max relative differences u {:.2e}, σ {:.2e}, E {:.2e}; \
+                 max E/E(0) {:.6} / {:.6}; peak |σ| {:.4} / {:.4} (GetFEM / dyncontact)",
+                a.run.file,
+                a.horizon,
+                a.u,
+                a.sigma,
+                a.energy,
+                a.energy_growth.0,
+                a.energy_growth.1,
+                a.sigma_peak.0,
+                a.sigma_peak.1
+            );
+        }
+        all
     })
 }
 
-fn select<'a>(case: &'a str, brick: &'a str) -> impl Iterator<Item = &'static Agreement> + 'a {
-    agreements()
+/// The comparisons of `case` with the GetFEM brick `brick` (any brick: `None`); `count` of them.
+fn select(case: &str, brick: Option<&str>, count: usize) -> Vec<&'static Agreement> {
+    let runs: Vec<_> = agreements()
         .iter()
-        .filter(move |a| a.run.case.starts_with(case) && a.run.brick == brick)
+        .filter(|a| a.run.case.starts_with(case) && brick.map_or(true, |b| a.run.brick == b))
+        .collect();
+    assert_eq!(runs.len(), count, "{case} {brick:?}");
+    runs
 }
 
 /// The bar: one contact point, where GetFEM's integral brick with a P1 multiplier is the nodal
@@ -55,9 +57,7 @@ fn select<'a>(case: &'a str, brick: &'a str) -> impl Iterator<Item = &'static Ag
 /// phase, t ∈ (1, 2)), to at most 3e-5 (σ, n = 160) at T = 3.
 #[test]
 fn bar_agrees_with_getfem_to_round_off_until_the_stress_chatters() {
-    let bars: Vec<_> = select("bar1d", "integral").collect();
-    assert_eq!(bars.len(), 4);
-    for a in bars {
+    for a in select("bar1d", Some("integral"), 4) {
         let worst = a.u.max(a.sigma).max(a.energy);
         if a.run.elements <= 40 {
             assert!(worst < 1e-9, "{}: {worst:e}", a.run.file);
@@ -75,7 +75,7 @@ fn bar_agrees_with_getfem_to_round_off_until_the_stress_chatters() {
 /// horizon.
 #[test]
 fn block_with_nodal_contact_agrees_with_getfem_through_the_first_impact() {
-    for a in select("block2d", "nodal") {
+    for a in select("block2d", Some("nodal"), 4) {
         assert!(a.horizon >= 0.2, "{}: horizon {}", a.run.file, a.horizon);
         if a.run.cells == Some("quad") {
             let (p, d) = a.sigma_peak;
@@ -90,7 +90,7 @@ fn block_with_nodal_contact_agrees_with_getfem_through_the_first_impact() {
 /// partial contact: measured horizon 0.062–0.072, the first impact included.
 #[test]
 fn weak_contact_agrees_with_getfem_integral_brick_until_partial_contact() {
-    for a in select("block2d", "integral") {
+    for a in select("block2d", Some("integral"), 4) {
         assert!(a.horizon >= 0.05, "{}: horizon {}", a.run.file, a.horizon);
     }
 }
@@ -100,7 +100,7 @@ fn weak_contact_agrees_with_getfem_integral_brick_until_partial_contact() {
 /// 3 % of E(0) up to T = 2 in every run (measured max E/E(0): 1.025 GetFEM, 1.018 dyncontact).
 #[test]
 fn neither_code_shows_the_energy_blow_up_of_seed_figure_3() {
-    for a in select("block2d", "") {
+    for a in select("block2d", None, 8) {
         let (p, d) = a.energy_growth;
         assert!(p < 1.03 && d < 1.03, "{}: {p} / {d}", a.run.file);
     }
@@ -113,7 +113,8 @@ fn neither_code_shows_the_energy_blow_up_of_seed_figure_3() {
 fn standard_stress_peaks_grow_as_dt_decreases_in_both_codes() {
     for cells in ["quad", "triangle"] {
         let peak = |dt: f64| {
-            select("block2d", "nodal")
+            select("block2d", Some("nodal"), 4)
+                .into_iter()
                 .find(|a| a.run.cells == Some(cells) && a.run.dt == dt)
                 .map(|a| a.sigma_peak)
                 .expect("run")
