@@ -241,20 +241,28 @@ pub struct Contact {
     /// When the rows are not the vertices of Γ_C (P0 multipliers): how their forces spread to
     /// the vertices; None when row i is vertex i.
     pub vertices: Option<VertexMap>,
-    /// The normal stress `σ_N(U)` at each contact point, when the case provides it (Nitsche).
-    pub traction: Option<Traction>,
+    /// Quadrature points of Γ_C for boundary integrals, when the case provides them (Nitsche).
+    pub quadrature: Option<Vec<BoundaryPoint>>,
     /// Set by the Nitsche formulation: force rows and compliances differ from the gap rows.
     pub nitsche: Option<NitscheRows>,
 }
 
-/// `σ_N(U) = S U` at each contact point (the trace of the stress of its element) and the local
-/// `h / E` that scales Nitsche's parameter there.
-#[derive(Debug, Clone)]
-pub struct Traction {
-    /// S (n_c × n).
-    pub s: SpMat,
-    /// Mesh size over Young's modulus at each point.
-    pub h_over_e: Vec<f64>,
+/// A quadrature point `x_q` of Γ_C for the boundary integrals of Nitsche's method
+/// ([`crate::contact::nitsche`]): `∫_{Γ_C} f ≈ Σ_q w_q f(x_q)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoundaryPoint {
+    /// `w_q`: the quadrature weight times the face's measure element at x_q.
+    pub weight: f64,
+    /// Initial gap `g₀(x_q)`: signed distance to the plane.
+    pub g0: f64,
+    /// Row `U ↦ u_N(x_q)`, the displacement along the plane's outward normal (as `B_N`).
+    pub u_n: Vec<(usize, f64)>,
+    /// Row `U ↦ σ_N(U)(x_q) = n·σ(U)n`, the stress of the cell x_q lies in.
+    pub sigma_n: Vec<(usize, f64)>,
+    /// Local mesh size over Young's modulus (Nitsche's `γ = h / (γ₀ E)`).
+    pub h_over_e: f64,
+    /// The vertex rows of its face with their degree-1 hat functions at x_q (shares summing to 1).
+    pub vertices: Vec<(usize, f64)>,
 }
 
 /// The Nitsche form of the contact rows ([`crate::contact::nitsche`]): with the gap rows

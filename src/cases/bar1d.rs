@@ -15,7 +15,7 @@ use crate::fem::quadrature::gauss_legendre_01;
 use crate::fem::segment::Segment;
 use crate::linalg::TripletBuilder;
 use crate::mesh::interval::IntervalMesh;
-use crate::problem::{Contact, ContactFace, Probe, Problem, Traction};
+use crate::problem::{BoundaryPoint, Contact, ContactFace, Probe, Problem};
 use crate::space::{ElementMass, ElementMixed, MassModel, Space};
 use serde::Deserialize;
 
@@ -194,12 +194,21 @@ impl Case for Bar1d {
         b_n.add(0, c0, -1.0);
         // σ_N = n σ n = E u'(0), from the first element at ξ = 0.
         let h = s.mesh.h();
-        let mut sigma = TripletBuilder::new(1, n);
-        for (k, dof) in s.element_dofs(0).into_iter().enumerate() {
-            if let Some(d) = dof {
-                sigma.add(0, d, young * s.element.derivative(k, 0.0) / h);
-            }
-        }
+        let sigma_n = s
+            .element_dofs(0)
+            .into_iter()
+            .enumerate()
+            .filter_map(|(k, dof)| dof.map(|d| (d, young * s.element.derivative(k, 0.0) / h)))
+            .collect();
+        // Γ_C is the point x = 0: the boundary "integral" is the point value, weight 1.
+        let point = BoundaryPoint {
+            weight: 1.0,
+            g0: 0.0,
+            u_n: vec![(c0, -1.0)],
+            sigma_n,
+            h_over_e: h / young,
+            vertices: vec![(0, 1.0)],
+        };
         let mut u0 = vec![0.0; n];
         for (i, d) in s.dof_of_node.iter().enumerate() {
             if let Some(d) = d {
@@ -216,10 +225,7 @@ impl Case for Bar1d {
                 area: vec![1.0],
                 faces: vec![ContactFace::point(0)],
                 vertices: None,
-                traction: Some(Traction {
-                    s: sigma.build()?,
-                    h_over_e: vec![h / young],
-                }),
+                quadrature: Some(vec![point]),
                 nitsche: None,
             },
             u0,

@@ -154,7 +154,7 @@ impl Case for SpringMassCase {
                 area: vec![1.0],
                 faces: vec![ContactFace::point(0)],
                 vertices: None,
-                traction: None,
+                quadrature: None,
                 nitsche: None,
             },
             u0: vec![p.u0],

@@ -25,9 +25,9 @@
 
 use super::{Formulation, SolveInfo, Solver};
 use crate::error::{in_range, positive, Error, Result};
-use crate::linalg::{self, TripletBuilder};
+use crate::linalg::TripletBuilder;
 use crate::method::{Entry, Options, Param};
-use crate::problem::{BoundaryEnergy, NitscheRows, Problem};
+use crate::problem::{BoundaryEnergy, BoundaryPoint, NitscheRows, Problem, VertexMap};
 use nalgebra::DMatrix;
 
 /// Nitsche's parameter γ₀ (γ = h / (γ₀ E)).
@@ -118,53 +118,81 @@ impl Formulation for Nitsche {
         })
     }
 
+    /// Replaces the vertex rows by one row per quadrature point of Γ_C (see the module
+    /// documentation); the probe becomes the point nearest the probe vertex.
     fn contact(&self, problem: &mut Problem) -> Result<()> {
-        let contact = &problem.contact;
-        let traction = contact.traction.as_ref().ok_or_else(|| {
+        let points = problem.contact.quadrature.take().ok_or_else(|| {
             Error::Unsupported(
-                "nitsche contact needs σ_N on Γ_C, which this case does not provide (bar1d does)"
+                "nitsche contact needs σ_N on Γ_C, which this case does not provide (bar1d and \
+                 the meshed bodies do)"
                     .into(),
             )
         })?;
-        let (b, s) = (linalg::rows(&contact.b_n), linalg::rows(&traction.s));
         let n = problem.k.ncols();
-        let mut gap = TripletBuilder::new(contact.len(), n);
-        let mut force = TripletBuilder::new(contact.len(), n);
+        let mut gap = TripletBuilder::new(points.len(), n);
+        let mut force = TripletBuilder::new(points.len(), n);
         let mut k = TripletBuilder::new(n, n);
         k.add_scaled(0, 0, 1.0, &problem.k);
         let (mut compliance, mut energy) = (Vec::new(), Vec::new());
-        for i in 0..contact.len() {
-            let (w, gamma) = (contact.area[i], traction.h_over_e[i] / self.gamma0);
-            let r = combine(&b[i], &s[i], gamma);
+        for (i, p) in points.iter().enumerate() {
+            let (w, gamma) = (p.weight, p.h_over_e / self.gamma0);
+            let r = combine(&p.u_n, &p.sigma_n, gamma);
             for &(j, v) in &r {
                 gap.add(i, j, v);
             }
-            for (j, v) in combine(&b[i], &s[i], self.theta * gamma) {
+            for (j, v) in combine(&p.u_n, &p.sigma_n, self.theta * gamma) {
                 force.add(i, j, v);
             }
-            for &(p, sp) in &s[i] {
-                for &(q, sq) in &s[i] {
-                    k.add(p, q, -self.theta * w * gamma * sp * sq);
+            for &(a, sa) in &p.sigma_n {
+                for &(b, sb) in &p.sigma_n {
+                    k.add(a, b, -self.theta * w * gamma * sa * sb);
                 }
             }
             compliance.push(gamma / w);
             energy.push(BoundaryEnergy {
-                s: s[i].clone(),
+                s: p.sigma_n.clone(),
                 r,
-                g0: contact.g0[i],
+                g0: p.g0,
                 a: 0.5 * (self.theta - 1.0) * w * gamma,
                 b: 0.5 * w / gamma,
             });
         }
+        problem.probe.contact = nearest_point(&points, problem.probe.contact)?;
         problem.k = k.build()?;
-        problem.contact.b_n = gap.build()?;
-        problem.contact.nitsche = Some(NitscheRows {
+        let contact = &mut problem.contact;
+        contact.b_n = gap.build()?;
+        contact.g0 = points.iter().map(|p| p.g0).collect();
+        contact.vertices = Some(VertexMap {
+            shares: points.iter().map(|p| p.vertices.clone()).collect(),
+            area: std::mem::take(&mut contact.area),
+        });
+        contact.area = points.iter().map(|p| p.weight).collect();
+        contact.nitsche = Some(NitscheRows {
             force: force.build()?,
             compliance,
             energy,
         });
         Ok(())
     }
+}
+
+/// The quadrature point with the largest share of `vertex` (ties: the lowest g₀, then the
+/// lowest index).
+fn nearest_point(points: &[BoundaryPoint], vertex: usize) -> Result<usize> {
+    let share = |p: &BoundaryPoint| {
+        p.vertices
+            .iter()
+            .find(|e| e.0 == vertex)
+            .map_or(0.0, |e| e.1)
+    };
+    (0..points.len())
+        .filter(|&q| share(&points[q]) > 0.0)
+        .min_by(|&a, &b| {
+            share(&points[b])
+                .total_cmp(&share(&points[a]))
+                .then(points[a].g0.total_cmp(&points[b].g0))
+        })
+        .ok_or_else(|| Error::Unsupported("the probe vertex is on no face of Γ_C".into()))
 }
 
 /// The per-step law `λ = (w/γ)[−g]₊` with `g = q + D λ` (D not symmetric for θ ≠ 1): the

@@ -233,7 +233,7 @@ impl Discretisation {
             area: self.contact_vertices.iter().map(|v| v.1).collect(),
             faces,
             vertices: None,
-            traction: None,
+            quadrature: None,
             nitsche: None,
         })
     }
