@@ -276,6 +276,8 @@ pub struct NitscheRows {
     pub compliance: Vec<f64>,
     /// The boundary part of the energy, per point.
     pub energy: Vec<BoundaryEnergy>,
+    /// The rows `U ↦ u_N(x_i)` of the physical gap `g₀_i − u_N(x_i)`.
+    pub normal: Vec<Vec<(usize, f64)>>,
 }
 
 /// One point's boundary energy `a (S_i U)² + b [(B_N − γS)_i U − g₀_i]₊²`.
@@ -370,6 +372,15 @@ impl Contact {
     pub fn gap(&self, u: &[f64], out: &mut [f64]) {
         out.copy_from_slice(&self.g0);
         linalg::mul_add(out, &self.b_n, u, -1.0);
+    }
+
+    /// The row of the physical gap `g_i = g₀_i − Σ v u_dof` at contact point `i`: row `i` of
+    /// `B_N`, or for Nitsche (whose `B_N` rows are the law's `u_N − γ σ_N`) the row of `u_N`.
+    pub fn gap_row(&self, i: usize) -> Vec<(usize, f64)> {
+        match &self.nitsche {
+            Some(n) => n.normal[i].clone(),
+            None => self.row(i),
+        }
     }
 
     /// Row `i` of `B_N` as `(dof, value)` pairs (a pass over B_N: extract once, then

@@ -4,15 +4,18 @@
 //! `(ρ ü_h, v_h) + a(u_h, v_h) − θ ∫_{Γ_C} γ σ_n(u_h) σ_n(v_h)
 //!   + ∫_{Γ_C} (1/γ) [u_{h,n} − g − γ σ_n(u_h)]₊ (v_{h,n} − θ γ σ_n(v_h)) = L(v_h)`,
 //!
-//! `γ = h / (γ₀ E)` (`--nitsche-gamma γ₀`, mesh size h and Young's modulus E at the contact
-//! point), θ ∈ {1, 0, −1} (`--nitsche-theta`: symmetric, skew-less, skew-symmetric). No
-//! multiplier: the contact pressure `−σ_n ≈ (1/γ)[·]₊` is a function of the displacement. The
-//! boundary integral is taken at the contact points (the vertices of Γ_C, weights w_i = their
-//! tributary measure; in 1D the end point, exactly).
+//! `γ = h / (γ₀ E)` (`--nitsche-gamma γ₀`, h the diameter of the cell at the point, E Young's
+//! modulus), θ ∈ {1, 0, −1} (`--nitsche-theta`: symmetric, skew-less, skew-symmetric), n the
+//! rigid plane's outward normal. No multiplier: the contact pressure `−σ_n ≈ (1/γ)[·]₊` is a
+//! function of the displacement. The boundary integrals are taken by quadrature on the faces
+//! of Γ_C ([`crate::fem::boundary`]; in 1D at the end point, exactly), with `[·]₊` evaluated at
+//! each quadrature point x_i (weight w_i, rows `u_n = B_N U` and `σ_n = S U` there).
 //!
-//! On the contact rows this is: stiffness `K − θ Σ_i w_i γ_i S_iᵀ S_i` (constant, in the factored
-//! step matrix), gap rows `B_N − γ S`, force `Qᵀ λ` with `Q = B_N − θ γ S` and
-//! `λ_i = (w_i/γ_i) [−g_i]₊`. Each implicit step is then a semismooth equation in λ, solved by a
+//! Each quadrature point becomes a contact row: stiffness `K − θ Σ_i w_i γ_i S_iᵀ S_i` (constant,
+//! in the factored step matrix), gap rows `B_N − γ S`, force `Qᵀ λ` with `Q = B_N − θ γ S` and
+//! `λ_i = (w_i/γ_i) [−g_i]₊`, the force of point i (pressure `λ_i / w_i`; for the vertex outputs
+//! it is spread to its face's vertices by their hat functions, and the probe is the point
+//! nearest the probe vertex, whose `gap` column is the physical gap `g₀ − u_n`). Each implicit step is then a semismooth equation in λ, solved by a
 //! generalised (semismooth) Newton method on `min(λ, g + (γ/w) λ) = 0` ([`NitscheLaw`]), exact
 //! once its active set repeats; its iterations are `contact_iterations`. The energy reported is
 //! the paper's `E_h = ½ (ρ u̇, u̇) + ½ a(u, u) − ½ ‖γ^{½} σ_n(u)‖² + ½ ‖γ^{−½} [u_n − g − γ σ_n(u)]₊‖²`
@@ -21,7 +24,7 @@
 //! Schemes: Newmark, HHT and backward Euler (contact law at t_{n+1}); Paoli–Schatzman and
 //! Moreau–Jean impose an impact law on the gap, which Nitsche's form has no place for, and the
 //! explicit central difference would need a stability restriction depending on γ₀: they are
-//! refused. Cases: those that provide `σ_N` on Γ_C (bar1d).
+//! refused. Cases: bar1d and every meshed 2D/3D body (not the spring–mass, which has no stress).
 
 use super::{Formulation, SolveInfo, Solver};
 use crate::error::{in_range, positive, Error, Result};
@@ -171,6 +174,7 @@ impl Formulation for Nitsche {
             force: force.build()?,
             compliance,
             energy,
+            normal: points.into_iter().map(|p| p.u_n).collect(),
         });
         Ok(())
     }

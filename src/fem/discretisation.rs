@@ -8,11 +8,13 @@
 //! - the contact operator at the vertices of Γ_C: `g = g₀ − B_N U` with `g₀_i = x_{i,d} + lift`
 //!   (signed distance to the plane) and `B_N U = −u_{i,d}` (the displacement along the **plane's**
 //!   outward normal −e_d, whatever the body's normal there);
+//! - the quadrature points of Γ_C for Nitsche's boundary integrals ([`super::boundary`]);
 //! - the probe: the Γ_C vertex nearest the plane at t = 0 (ties: nearest the centre of Γ_C's
 //!   bounding box).
 
 use crate::error::{Error, Result};
 use crate::fem::assembly::assemble;
+use crate::fem::boundary::contact_points;
 use crate::fem::elasticity::{
     element_mass, element_stiffness, mixed_matrices, stress, von_mises, Lame,
 };
@@ -233,7 +235,13 @@ impl Discretisation {
             area: self.contact_vertices.iter().map(|v| v.1).collect(),
             faces,
             vertices: None,
-            quadrature: None,
+            quadrature: Some(contact_points(
+                &self.mesh,
+                &self.contact_faces,
+                self.lame,
+                lift,
+                &row,
+            )),
             nitsche: None,
         })
     }

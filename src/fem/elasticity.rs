@@ -19,6 +19,11 @@ pub struct Lame {
 }
 
 impl Lame {
+    /// Young's modulus `E = μ (3λ + 2μ) / (λ + μ)`.
+    pub fn young(&self) -> f64 {
+        self.mu * (3.0 * self.lambda + 2.0 * self.mu) / (self.lambda + self.mu)
+    }
+
     /// From Young's modulus and Poisson's ratio: `λ = Eν/((1+ν)(1−2ν))`, `μ = E/(2(1+ν))`.
     pub fn from_young_poisson(young: f64, poisson: f64) -> Self {
         Self {
@@ -45,7 +50,11 @@ fn jacobian_from(el: &RefElement, x: &[[f64; 3]], g: &[[f64; 3]]) -> Matrix3<f64
 }
 
 /// Values and physical gradients `J⁻ᵀ ∇̂φ` at a point, and `|det J|`.
-fn physical(el: &RefElement, x: &[[f64; 3]], xi: [f64; 3]) -> (Vec<f64>, Vec<[f64; 3]>, f64) {
+pub(crate) fn physical(
+    el: &RefElement,
+    x: &[[f64; 3]],
+    xi: [f64; 3],
+) -> (Vec<f64>, Vec<[f64; 3]>, f64) {
     let (v, g) = el.eval(xi);
     let jac = jacobian_from(el, x, &g);
     // Checked cells have det J ≠ 0 (Mesh::check); zero gradients rather than a panic otherwise.

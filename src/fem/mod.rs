@@ -1,6 +1,7 @@
 //! Finite element building blocks: quadrature, reference elements, local and global assembly.
 
 pub mod assembly;
+pub mod boundary;
 pub mod discretisation;
 pub mod elasticity;
 pub mod lagrange1d;

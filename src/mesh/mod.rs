@@ -39,6 +39,10 @@ pub struct Face {
     pub measure: f64,
     /// Unit outward normal.
     pub normal: [f64; 3],
+    /// The cell it bounds.
+    pub cell: usize,
+    /// The cell's local node indices of `vertices`.
+    pub local: Vec<usize>,
 }
 
 /// Which boundary faces form Γ_C.
@@ -191,14 +195,20 @@ impl Mesh {
                     let cell = &self.connectivity[c];
                     let vertices: Vec<usize> = faces[f].iter().map(|&a| cell[a]).collect();
                     let inside = centroid(verts.iter().map(|&a| self.nodes[cell[a]]));
-                    self.face(vertices, inside)
+                    self.face(vertices, inside, (c, faces[f].clone()))
                 })
             })
             .collect()
     }
 
-    /// The face through `vertices`, its normal oriented away from the point `inside`.
-    fn face(&self, vertices: Vec<usize>, inside: [f64; 3]) -> Face {
+    /// The face through `vertices` of `(cell, local vertices)`, its normal oriented away from the
+    /// point `inside`.
+    fn face(
+        &self,
+        vertices: Vec<usize>,
+        inside: [f64; 3],
+        (cell, local): (usize, Vec<usize>),
+    ) -> Face {
         let x: Vec<[f64; 3]> = vertices.iter().map(|&i| self.nodes[i]).collect();
         let (measure, mut normal) = match (self.dim(), x.len()) {
             (2, _) => {
@@ -228,6 +238,8 @@ impl Mesh {
             vertices,
             measure,
             normal,
+            cell,
+            local,
         }
     }
 

@@ -149,7 +149,7 @@ pub fn run_with_output(
         let (recycle, recycled) = mpsc::channel();
         let (problem, field) = (&problem, &field);
         let mut probe = Probe {
-            b_row: problem.contact.row(problem.probe.contact),
+            b_row: problem.contact.gap_row(problem.probe.contact),
             energy: problem.energy_form(),
             centre: impact.as_ref().map(|i| i.centre.clone()),
         };
@@ -339,7 +339,7 @@ impl Progress {
 
 /// What the sampling thread evaluates at every sample besides the probe dofs.
 struct Probe {
-    /// The probe's row of B_N.
+    /// The row of the probe's physical gap ([`crate::problem::Contact::gap_row`]).
     b_row: Vec<(usize, f64)>,
     energy: EnergyForm,
     /// The centre of mass's weights, for the approach of the curved-body cases.
