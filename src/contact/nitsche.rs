@@ -115,10 +115,7 @@ impl Formulation for Nitsche {
             .nitsche
             .as_ref()
             .map_or_else(Vec::new, |n| n.compliance.clone());
-        Box::new(NitscheLaw {
-            compliance,
-            h: DMatrix::zeros(0, 0),
-        })
+        Box::new(NitscheLaw { compliance })
     }
 
     /// Replaces the vertex rows by one row per quadrature point of Γ_C (see the module
@@ -200,13 +197,12 @@ fn nearest_point(points: &[BoundaryPoint], vertex: usize) -> Result<usize> {
 }
 
 /// The per-step law `λ = (w/γ)[−g]₊` with `g = q + D λ` (D not symmetric for θ ≠ 1): the
-/// semismooth Newton method on `min(λ, q + (D + diag(γ/w)) λ) = 0`, i.e. the primal–dual active
-/// set with a dense LU of the active block.
+/// semismooth Newton method on `min(λ, q + (D + diag(c)) λ) = 0`, `c = γ/w`, i.e. the primal–dual
+/// active set with a dense LU of the active block. Per iteration it costs `n_c` times the number
+/// of nonzero λ (columns of D) plus the LU; D itself is neither copied nor shifted.
 #[derive(Debug, Clone)]
 pub struct NitscheLaw {
     compliance: Vec<f64>,
-    /// Workspace for `D + diag(γ/w)`.
-    h: DMatrix<f64>,
 }
 
 impl Solver for NitscheLaw {
@@ -221,12 +217,16 @@ impl Solver for NitscheLaw {
         lambda: &mut [f64],
     ) -> std::result::Result<SolveInfo, String> {
         let n = q.len();
-        let h = super::penalty::shifted(&mut self.h, d, |i| self.compliance[i]);
+        let c = &self.compliance;
         let mut active: Vec<usize> = Vec::new();
         for it in 1..=MAX_ITERATIONS {
-            let y: Vec<f64> = (0..n)
-                .map(|i| q[i] + (0..n).map(|j| h[(i, j)] * lambda[j]).sum::<f64>())
-                .collect();
+            // y = q + D λ + c λ, D λ over the columns of the nonzero λ_j (contiguous in D).
+            let mut y: Vec<f64> = (0..n).map(|i| q[i] + c[i] * lambda[i]).collect();
+            for (j, &l) in lambda.iter().enumerate().filter(|e| *e.1 != 0.0) {
+                for (yi, dij) in y.iter_mut().zip(d.column(j).iter()) {
+                    *yi += dij * l;
+                }
+            }
             let next: Vec<usize> = (0..n)
                 .filter(|&i| q[i].is_finite() && y[i] < lambda[i])
                 .collect();
@@ -242,7 +242,10 @@ impl Solver for NitscheLaw {
                 continue;
             }
             let k = active.len();
-            let block = DMatrix::from_fn(k, k, |a, b| h[(active[a], active[b])]);
+            let block = DMatrix::from_fn(k, k, |a, b| {
+                let (i, j) = (active[a], active[b]);
+                d[(i, j)] + if i == j { c[i] } else { 0.0 }
+            });
             let rhs = nalgebra::DVector::from_iterator(k, active.iter().map(|&i| -q[i]));
             let x = block
                 .lu()

@@ -91,7 +91,7 @@ impl Solver for Penalty {
 
 /// `D + diag(shift_i)` written into the workspace `out` (allocated on the first call only: the
 /// per-step laws reuse it).
-pub(crate) fn shifted<'w>(
+fn shifted<'w>(
     out: &'w mut DMatrix<f64>,
     d: &DMatrix<f64>,
     shift: impl Fn(usize) -> f64,
