@@ -176,21 +176,6 @@ mod tests {
         contact_points(mesh, &faces, lame, lift, &row)
     }
 
-    fn every_element() -> Vec<RefElement> {
-        let mut v = Vec::new();
-        for (shape, dim) in [
-            (Shape::Tensor, 2),
-            (Shape::Simplex, 2),
-            (Shape::Tensor, 3),
-            (Shape::Simplex, 3),
-        ] {
-            for degree in [1, 2] {
-                v.push(RefElement { shape, dim, degree });
-            }
-        }
-        v
-    }
-
     /// On the bottom of the unit box, for every element family: the weights sum to |Γ_C| = 1 and
     /// integrate x² exactly (1/3), the shares sum to 1, g₀ is the lift, u_N of a vertical
     /// translation u = c e_d is −c, and σ_N of a linear field u_k = Σ_l G_kl x_l is the exact
@@ -199,7 +184,7 @@ mod tests {
     fn box_bottom_quadrature_is_exact_for_every_element() {
         let lame = Lame::from_young_poisson(2.0, 0.3);
         let grad = [[0.1, -0.2, 0.3], [0.05, 0.4, -0.1], [0.2, 0.15, -0.3]];
-        for el in every_element() {
+        for el in RefElement::every() {
             let mesh = box_mesh(el, [3, 2, 2], [1.0, 1.0, 1.0]).unwrap();
             let d = el.dim;
             let pts = points(&mesh, lame, 0.25);

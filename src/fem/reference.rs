@@ -272,6 +272,19 @@ impl RefElement {
         }
     }
 
+    /// Every element family: P1/P2 triangles and tetrahedra, Q1/Q2 quadrilaterals and hexahedra.
+    pub fn every() -> Vec<RefElement> {
+        let mut v = Vec::new();
+        for degree in [1, 2] {
+            for shape in [Shape::Simplex, Shape::Tensor] {
+                for dim in [2, 3] {
+                    v.push(RefElement { shape, dim, degree });
+                }
+            }
+        }
+        v
+    }
+
     /// The element of degree 1 on the same shape (the velocity space of the singular dynamic
     /// method), with the local index in `self` of each of its nodes (the vertices).
     pub fn linear(&self) -> (RefElement, Vec<usize>) {
@@ -292,21 +305,9 @@ impl RefElement {
 mod tests {
     use super::*;
 
-    fn elements() -> Vec<RefElement> {
-        let mut v = Vec::new();
-        for degree in [1, 2] {
-            for shape in [Shape::Simplex, Shape::Tensor] {
-                for dim in [2, 3] {
-                    v.push(RefElement { shape, dim, degree });
-                }
-            }
-        }
-        v
-    }
-
     #[test]
     fn basis_is_nodal_and_a_partition_of_unity() {
-        for e in elements() {
+        for e in RefElement::every() {
             for a in 0..e.n_nodes() {
                 let (v, g) = e.eval(e.node(a));
                 for (b, vb) in v.iter().enumerate() {
@@ -320,7 +321,7 @@ mod tests {
 
     #[test]
     fn quadrature_integrates_the_measure_and_quadratics() {
-        for e in elements() {
+        for e in RefElement::every() {
             let q = e.quadrature();
             let area: f64 = q.iter().map(|p| p.1).sum();
             let simplex = e.shape == Shape::Simplex;

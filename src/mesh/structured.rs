@@ -137,32 +137,25 @@ mod tests {
 
     #[test]
     fn cells_cover_the_box_and_gamma_c_has_the_right_vertices() {
-        for (shape, dim) in [
-            (Shape::Simplex, 2),
-            (Shape::Simplex, 3),
-            (Shape::Tensor, 2),
-            (Shape::Tensor, 3),
-        ] {
-            for degree in [1, 2] {
-                let e = RefElement { shape, dim, degree };
-                let m = box_mesh(e, [3, 2, 2], [1.5, 1.0, 1.0]).unwrap();
-                m.check().unwrap();
-                // Area 1.5 × 1 (2D), volume 1.5 × 1 × 1 (3D).
-                assert!((m.volume() - 1.5).abs() < 1e-12, "{e:?}: {}", m.volume());
-                let faces = m
-                    .contact_faces(super::super::ContactRule::Facing(0.01))
-                    .unwrap();
-                let cv = m.tributary(&faces);
-                let want = if dim == 2 { 4 } else { 4 * 3 };
-                assert_eq!(cv.len(), want, "{e:?}");
-                assert!(cv.iter().all(|&(i, _)| m.nodes[i][dim - 1] == 0.0));
-                let area: f64 = cv.iter().map(|v| v.1).sum();
-                // Γ_C has length 1.5 (2D) or area 1.5 × 1 (3D).
-                assert!((area - 1.5).abs() < 1e-12);
-                // The whole boundary: perimeter 5 (2D) or area 2(1.5 + 1.5 + 1) = 8 (3D).
-                let total: f64 = m.boundary_faces().iter().map(|f| f.measure).sum();
-                assert!((total - if dim == 2 { 5.0 } else { 8.0 }).abs() < 1e-12);
-            }
+        for e in RefElement::every() {
+            let dim = e.dim;
+            let m = box_mesh(e, [3, 2, 2], [1.5, 1.0, 1.0]).unwrap();
+            m.check().unwrap();
+            // Area 1.5 × 1 (2D), volume 1.5 × 1 × 1 (3D).
+            assert!((m.volume() - 1.5).abs() < 1e-12, "{e:?}: {}", m.volume());
+            let faces = m
+                .contact_faces(super::super::ContactRule::Facing(0.01))
+                .unwrap();
+            let cv = m.tributary(&faces);
+            let want = if dim == 2 { 4 } else { 4 * 3 };
+            assert_eq!(cv.len(), want, "{e:?}");
+            assert!(cv.iter().all(|&(i, _)| m.nodes[i][dim - 1] == 0.0));
+            let area: f64 = cv.iter().map(|v| v.1).sum();
+            // Γ_C has length 1.5 (2D) or area 1.5 × 1 (3D).
+            assert!((area - 1.5).abs() < 1e-12);
+            // The whole boundary: perimeter 5 (2D) or area 2(1.5 + 1.5 + 1) = 8 (3D).
+            let total: f64 = m.boundary_faces().iter().map(|f| f.measure).sum();
+            assert!((total - if dim == 2 { 5.0 } else { 8.0 }).abs() < 1e-12);
         }
     }
 }
