@@ -317,7 +317,8 @@ fn nitsche_carries_the_weight_at_rest() {
 }
 
 /// Nitsche is refused with the impact-law and explicit schemes, with an LCP solver it would
-/// ignore, and on a case that gives no σ_N on Γ_C (the spring–mass), with messages that say why.
+/// ignore, on a case that gives no σ_N on Γ_C (the spring–mass), and with a γ₀ so small that the
+/// step matrix is indefinite, with messages that say why.
 #[test]
 fn nitsche_is_refused_where_it_does_not_apply() {
     for scheme in ["paoli_schatzman", "moreau_jean", "central_difference"] {
@@ -346,4 +347,14 @@ fn nitsche_is_refused_where_it_does_not_apply() {
     let case = cases::load(Path::new("cases/spring_mass.toml"), &o).unwrap();
     let e = run(case.as_ref()).err().unwrap().to_string();
     assert!(e.contains("needs σ_N on Γ_C"), "{e}");
+    // θ = 1 with γ₀ too small: K − θ Σ w γ SᵀS is indefinite on the massless contact dofs.
+    let mut o = Overrides {
+        t_end: Some(0.01),
+        ..Default::default()
+    };
+    o.options.contact = Some("nitsche".into());
+    o.options.params = o.options.params.with("nitsche_gamma", 1.0);
+    let case = cases::load(Path::new("cases/block2d.toml"), &o).unwrap();
+    let e = run(case.as_ref()).err().unwrap().to_string();
+    assert!(e.contains("increase run.nitsche_gamma"), "{e}");
 }

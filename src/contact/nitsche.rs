@@ -15,9 +15,10 @@
 //! in the factored step matrix), gap rows `B_N − γ S`, force `Qᵀ λ` with `Q = B_N − θ γ S` and
 //! `λ_i = (w_i/γ_i) [−g_i]₊`, the force of point i (pressure `λ_i / w_i`; for the vertex outputs
 //! it is spread to its face's vertices by their hat functions, and the probe is the point
-//! nearest the probe vertex, whose `gap` column is the physical gap `g₀ − u_n`). Each implicit step is then a semismooth equation in λ, solved by a
-//! generalised (semismooth) Newton method on `min(λ, g + (γ/w) λ) = 0` ([`NitscheLaw`]), exact
-//! once its active set repeats; its iterations are `contact_iterations`. The energy reported is
+//! nearest the probe vertex, whose `gap` column is the physical gap `g₀ − u_n`). Each implicit
+//! step is then a semismooth equation in λ, solved by a generalised (semismooth) Newton method
+//! on `min(λ, g + (γ/w) λ) = 0` ([`NitscheLaw`]), exact once its active set repeats; its
+//! iterations are `contact_iterations`. The energy reported is
 //! the paper's `E_h = ½ (ρ u̇, u̇) + ½ a(u, u) − ½ ‖γ^{½} σ_n(u)‖² + ½ ‖γ^{−½} [u_n − g − γ σ_n(u)]₊‖²`
 //! − L(u), conserved by the semi-discrete problem for θ = 1.
 //!

@@ -116,6 +116,23 @@ fn check_stiffness_resolved(
     ))
 }
 
+/// A failed factorisation with Nitsche's contact: says that its term `−θ ∫ γ σ_n(u) σ_n(v)`
+/// (θ > 0) makes the stiffness indefinite when γ₀ is too small.
+fn nitsche_hint(problem: &Problem, e: Error) -> Error {
+    match e {
+        Error::Factorisation { matrix, reason } if problem.contact.nitsche.is_some() => {
+            Error::Factorisation {
+                matrix,
+                reason: format!(
+                    "{reason}; with nitsche contact and θ > 0 the term −θ ∫ γ σ_n(u) σ_n(v) makes \
+                     the stiffness indefinite when γ₀ is too small: increase run.nitsche_gamma"
+                ),
+            }
+        }
+        e => e,
+    }
+}
+
 /// The constant step operator with its contact coupling, solved directly or by CG.
 #[allow(clippy::large_enum_variant)]
 pub enum ContactStep {
@@ -225,7 +242,10 @@ impl DirectStep {
         c: f64,
         solver: Box<dyn Solver>,
     ) -> Result<Self> {
-        let mut op = problem.inertia.step_operator(k, m_coef, k_coef)?;
+        let mut op = problem
+            .inertia
+            .step_operator(k, m_coef, k_coef)
+            .map_err(|e| nitsche_hint(problem, e))?;
         let (n, nw, nc) = (problem.n(), problem.inertia.dim(), problem.contact.len());
         let mut d = DMatrix::zeros(nc, nc);
         let mut zu = Vec::with_capacity(nc);
