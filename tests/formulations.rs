@@ -49,16 +49,20 @@ fn weak_and_nodal_multipliers_coincide_in_1d() {
     }
 }
 
+/// Runs the case file `file` with the overrides `o` and the contact formulation `contact`.
+fn run_with(file: &str, mut o: Overrides, contact: &str) -> RunResult {
+    o.options.contact = Some(contact.into());
+    run(cases::load(Path::new(file), &o).unwrap().as_ref()).unwrap()
+}
+
 fn disc(contact: &str, multiplier: Option<&str>) -> RunResult {
     let mut o = Overrides {
         elements: Some(24),
         dt: Some(0.04),
         ..Default::default()
     };
-    o.options.contact = Some(contact.into());
     o.options.contact_multiplier = multiplier.map(Into::into);
-    let case = cases::load(Path::new("cases/hertz2d.toml"), &o).unwrap();
-    run(case.as_ref()).unwrap()
+    run_with("cases/hertz2d.toml", o, contact)
 }
 
 /// The disc against Hertz's line contact at peak force (n = 24, dt = 0.04, mass redistribution):
@@ -96,10 +100,8 @@ fn block(file: &str, contact: &str, theta: f64) -> RunResult {
         t_end: Some(1.0),
         ..Default::default()
     };
-    o.options.contact = Some(contact.into());
     o.options.params = o.options.params.with("nitsche_theta", theta);
-    let case = cases::load(Path::new(file), &o).unwrap();
-    run(case.as_ref()).unwrap()
+    run_with(file, o, contact)
 }
 
 /// Nitsche's contact on the dropped blocks (Q1 10 × 10 and 4³, dt = 1e-3, γ₀ = 100, T = 1: the
@@ -217,15 +219,13 @@ fn symmetric_nitsche_keeps_the_nodal_energy_behaviour() {
 #[test]
 fn nitsche_with_the_standard_mass_keeps_the_stress_bounded_as_dt_shrinks() {
     let peak_and_drift = |contact: &str, dt: f64| {
-        let mut o = Overrides {
+        let o = Overrides {
             space: Some("standard".into()),
             dt: Some(dt),
             t_end: Some(2.0),
             ..Default::default()
         };
-        o.options.contact = Some(contact.into());
-        let case = cases::load(Path::new("cases/block2d.toml"), &o).unwrap();
-        let r = run(case.as_ref()).unwrap();
+        let r = run_with("cases/block2d.toml", o, contact);
         let peak = r.rows.iter().map(|x| -x.sigma_contact).fold(0.0, f64::max);
         println!(
             "{contact} dt = {dt}: peak σ {peak:.4}, drift {:.3e}",
@@ -256,15 +256,13 @@ fn nitsche_with_the_standard_mass_keeps_the_stress_bounded_as_dt_shrinks() {
 #[test]
 fn nitsche_chatters_where_its_trace_has_inertia() {
     let tv = |space: &str, degree: usize, contact: &str| {
-        let mut o = Overrides {
+        let o = Overrides {
             space: Some(space.into()),
             degree: Some(degree),
             t_end: Some(2.0),
             ..Default::default()
         };
-        o.options.contact = Some(contact.into());
-        let case = cases::load(Path::new("cases/block2d.toml"), &o).unwrap();
-        let rows = run(case.as_ref()).unwrap().rows;
+        let rows = run_with("cases/block2d.toml", o, contact).rows;
         rows.windows(2)
             .map(|w| (w[1].force_contact - w[0].force_contact).abs())
             .sum::<f64>()
