@@ -1,7 +1,13 @@
 //! Preconditioned conjugate gradients with a Jacobi preconditioner, optionally with a principal
 //! block solved exactly, for the SPD step matrices of the time schemes.
+//!
+//! An iteration is one product (on the rayon pool, which also forms `pᵀAp`), one fused pass
+//! `x += αp, r −= αq, z = D⁻¹r` over chunks of [`PASS_CHUNK`] on the rayon pool, during which
+//! the exact block is solved on the other thread, and `p = z + βp`. Every sum is formed per
+//! chunk and the chunk sums added in order: the iterates do not depend on the number of threads.
 
-use super::{check_finite, diagonal, dot, dot_unordered, factor_err, scale_add, sym_mul, triplets};
+use super::PASS_CHUNK;
+use super::{check_finite, diagonal, dot, factor_err, masked_dot, scale_add, sym_mul, triplets};
 use super::{BlockSym, Factor, SpMat, TripletBuilder};
 use crate::error::Result;
 
@@ -17,6 +23,17 @@ impl SymOperator {
         match self {
             Self::Block(b) => b.mul(y, x),
             Self::Csc(a) => sym_mul(y, a, x),
+        }
+    }
+
+    /// `y = Π A x` (Π: zero where not free), returning `xᵀ y`.
+    fn mul_masked_dot(&self, y: &mut [f64], x: &[f64], free: &[bool]) -> f64 {
+        match self {
+            Self::Block(b) => b.mul_masked_dot(y, x, free),
+            Self::Csc(a) => {
+                sym_mul(y, a, x);
+                masked_dot(y, x, free, |_, yi| yi)
+            }
         }
     }
 }
@@ -48,10 +65,20 @@ struct ExactBlock {
 impl ExactBlock {
     /// `z_S = A_SS⁻¹ r_S` on the free dofs of S (0 on the fixed ones); returns `Σ_S r_i z_i`.
     fn apply(&mut self, r: &[f64], z: &mut [f64], free: &[bool]) -> f64 {
-        for (w, &i) in self.work.iter_mut().zip(&self.dofs) {
-            *w = r[i];
-        }
+        self.load(|i| r[i]);
         self.factor.solve_in_place(&mut self.work);
+        self.store(r, z, free)
+    }
+
+    /// `w = (r_i)_{i ∈ S}`.
+    fn load(&mut self, r: impl Fn(usize) -> f64) {
+        for (w, &i) in self.work.iter_mut().zip(&self.dofs) {
+            *w = r(i);
+        }
+    }
+
+    /// `z_S = w` on the free dofs of S (0 on the fixed ones); returns `Σ_S r_i z_i`.
+    fn store(&self, r: &[f64], z: &mut [f64], free: &[bool]) -> f64 {
         let mut rz = 0.0;
         for (&w, &i) in self.work.iter().zip(&self.dofs) {
             z[i] = if free[i] { w } else { 0.0 };
@@ -59,6 +86,53 @@ impl ExactBlock {
         }
         rz
     }
+}
+
+/// One pass of CG over chunks of [`PASS_CHUNK`] on the rayon pool: `x += α p`, `r −= α q`,
+/// `z = D⁻¹ r` (Jacobi; 0 on the exact block, where `D⁻¹` is 0); returns `(r·z, r·r)`.
+fn update(
+    (x, r, z): (&mut [f64], &mut [f64], &mut [f64]),
+    (p, q, inv_diag): (&[f64], &[f64], &[f64]),
+    alpha: f64,
+) -> (f64, f64) {
+    use rayon::prelude::*;
+    let mine = x
+        .par_chunks_mut(PASS_CHUNK)
+        .zip(r.par_chunks_mut(PASS_CHUNK));
+    let theirs = p.par_chunks(PASS_CHUNK).zip(q.par_chunks(PASS_CHUNK));
+    let passes = mine
+        .zip(z.par_chunks_mut(PASS_CHUNK))
+        .zip(theirs.zip(inv_diag.par_chunks(PASS_CHUNK)))
+        .map(|(((x, r), z), ((p, q), d))| {
+            let (mut rz, mut rr) = ([0.0; 4], [0.0; 4]);
+            for (k, (((xi, ri), zi), ((pi, qi), di))) in x
+                .iter_mut()
+                .zip(r.iter_mut())
+                .zip(z.iter_mut())
+                .zip(p.iter().zip(q).zip(d))
+                .enumerate()
+            {
+                *xi += alpha * pi;
+                *ri -= alpha * qi;
+                *zi = di * *ri;
+                rz[k % 4] += *ri * *zi;
+                rr[k % 4] += *ri * *ri;
+            }
+            let sum = |a: [f64; 4]| (a[0] + a[1]) + (a[2] + a[3]);
+            (sum(rz), sum(rr))
+        });
+    let mut sums = Vec::new();
+    passes.collect_into_vec(&mut sums);
+    sums.iter()
+        .fold((0.0, 0.0), |(a, b), (rz, rr)| (a + rz, b + rr))
+}
+
+/// `p = z + β p` over chunks on the rayon pool.
+fn next_direction(p: &mut [f64], z: &[f64], beta: f64) {
+    use rayon::prelude::*;
+    p.par_chunks_mut(PASS_CHUNK)
+        .zip(z.par_chunks(PASS_CHUNK))
+        .for_each(|(p, z)| scale_add(p, beta, 1.0, z));
 }
 
 /// The principal submatrix `A_SS` (rows and columns `dofs`, in that order).
@@ -169,30 +243,25 @@ impl Pcg {
             if it == max_iter {
                 return Err((res2 / b2).sqrt());
             }
-            op.mul(q, p);
-            for (i, qi) in q.iter_mut().enumerate() {
-                *qi = masked(i, *qi);
+            let alpha = rz / op.mul_masked_dot(q, p, free);
+            if let Some(bl) = block.as_mut() {
+                bl.load(|i| r[i] - alpha * q[i]);
             }
-            let alpha = rz / dot_unordered(p, q);
-            // One pass: x += αp, r −= αq, z = P⁻¹r, and the sums r·z, r·r (four lanes each).
-            let (mut rz4, mut rr4) = ([0.0; 4], [0.0; 4]);
-            for (k, (((xi, ri), zi), (pi, qi))) in x
-                .iter_mut()
-                .zip(r.iter_mut())
-                .zip(z.iter_mut())
-                .zip(p.iter().zip(q.iter()))
-                .enumerate()
-            {
-                *xi += alpha * pi;
-                *ri -= alpha * qi;
-                *zi = inv_diag[k] * *ri;
-                rz4[k % 4] += *ri * *zi;
-                rr4[k % 4] += *ri * *ri;
-            }
-            let rz_new =
-                rz4.iter().sum::<f64>() + block.as_mut().map_or(0.0, |bl| bl.apply(r, z, free));
-            res2 = rr4.iter().sum();
-            scale_add(p, rz_new / rz, 1.0, z);
+            let (xs, rs, zs) = (&mut x[..], &mut r[..], &mut z[..]);
+            let (ps, qs, ds) = (&p[..], &q[..], &inv_diag[..]);
+            let mut pass = move || update((xs, rs, zs), (ps, qs, ds), alpha);
+            // The block's residual r_S − α q_S is solved on one thread while the pass runs.
+            let ((rz_jacobi, rr), rz_block) = match block.as_mut() {
+                None => (pass(), 0.0),
+                Some(bl) => {
+                    let (w, factor) = (&mut bl.work, &mut bl.factor);
+                    let (sums, ()) = rayon::join(pass, || factor.solve_in_place(w));
+                    (sums, bl.store(r, z, free))
+                }
+            };
+            let rz_new = rz_jacobi + rz_block;
+            res2 = rr;
+            next_direction(p, z, rz_new / rz);
             rz = rz_new;
             it += 1;
         }
