@@ -293,18 +293,8 @@ pub fn dot(x: &[f64], y: &[f64]) -> f64 {
 /// sums are added in order, so that the result does not depend on the number of threads.
 pub const PASS_CHUNK: usize = 4096;
 
-/// Sum of `x[k] y[k]` in four interleaved partial sums.
-#[inline(always)]
-fn lanes(x: impl Iterator<Item = (f64, f64)>) -> f64 {
-    let mut acc = [0.0; 4];
-    for (k, (a, b)) in x.enumerate() {
-        acc[k % 4] += a * b;
-    }
-    (acc[0] + acc[1]) + (acc[2] + acc[3])
-}
-
 /// Chunk sums added in order.
-pub fn sum_in_order(chunks: impl rayon::iter::IndexedParallelIterator<Item = f64>) -> f64 {
+fn sum_in_order(chunks: impl rayon::iter::IndexedParallelIterator<Item = f64>) -> f64 {
     let mut sums = Vec::new();
     chunks.collect_into_vec(&mut sums);
     sums.iter().sum()
@@ -328,7 +318,7 @@ pub fn masked_dot(
                 for (k, (yi, &f)) in y.iter_mut().zip(free).enumerate() {
                     *yi = if f { g(c * PASS_CHUNK + k, *yi) } else { 0.0 };
                 }
-                lanes(x.iter().copied().zip(y.iter().copied()))
+                dot_unordered(x, y)
             }),
     )
 }
