@@ -290,8 +290,9 @@ pub fn dot(x: &[f64], y: &[f64]) -> f64 {
 }
 
 /// Entries per chunk of the vector passes of CG: each chunk forms its own sums and the chunk
-/// sums are added in order, so that the result does not depend on the number of threads.
-pub const PASS_CHUNK: usize = 4096;
+/// sums are added in order, so that the result does not depend on the number of threads. A
+/// multiple of 2 and 3, so that a chunk holds whole nodes of a 2D or 3D vector field.
+pub const PASS_CHUNK: usize = 4098;
 
 /// Chunk sums added in order.
 fn sum_in_order(chunks: impl rayon::iter::IndexedParallelIterator<Item = f64>) -> f64 {
@@ -1119,6 +1120,11 @@ impl BlockSym {
             cuts,
             parts: std::sync::Mutex::new(Vec::new()),
         })
+    }
+
+    /// Size b of the blocks.
+    pub fn block_size(&self) -> usize {
+        self.b
     }
 
     /// `y = A x`, the parts in parallel.

@@ -1,5 +1,5 @@
-//! Preconditioned conjugate gradients with a Jacobi preconditioner, optionally with a principal
-//! block solved by its Cholesky factor, for the SPD step matrices of the time schemes.
+//! Preconditioned conjugate gradients with a nodal (block) Jacobi preconditioner, optionally with
+//! a principal block solved by its Cholesky factor, for the SPD step matrices of the time schemes.
 //!
 //! An iteration is one product (on the rayon pool, which also forms `pᵀAp`), one fused pass
 //! `x += αp, r −= αq, z = D⁻¹r` over chunks of [`PASS_CHUNK`] on the rayon pool, during which
@@ -19,6 +19,14 @@ enum SymOperator {
 }
 
 impl SymOperator {
+    /// Dofs per node: the block size of a [`BlockSym`], 1 otherwise.
+    fn node_size(&self) -> usize {
+        match self {
+            Self::Block(b) => b.block_size(),
+            Self::Csc(_) => 1,
+        }
+    }
+
     fn mul(&self, y: &mut [f64], x: &[f64]) {
         match self {
             Self::Block(b) => b.mul(y, x),
@@ -39,13 +47,14 @@ impl SymOperator {
 }
 
 /// Preconditioned conjugate gradients for an SPD matrix, with workspaces kept between solves
-/// (Hestenes–Stiefel 1952). The preconditioner is `P = diag(A)` (Jacobi), or
-/// `P = blockdiag(A_SS, diag(A))` with a principal block factored ([`Pcg::with_block`]); with
-/// fixed entries it acts on the free ones only (`Π P⁻¹ Π`, still SPD on that subspace).
+/// (Hestenes–Stiefel 1952). The preconditioner is `P = D`, the nodal diagonal blocks of A
+/// (Jacobi by nodes), or `P = blockdiag(A_SS, D)` with a principal block factored
+/// ([`Pcg::with_block`]); with fixed entries it acts on the free ones only (`Π P⁻¹ Π`, still SPD
+/// on that subspace).
 #[derive(Debug)]
 pub struct Pcg {
     op: SymOperator,
-    inv_diag: Vec<f64>,
+    jacobi: NodalJacobi,
     /// The block of the preconditioner solved by its factor, if any.
     block: Option<FactoredBlock>,
     r: Vec<f64>,
@@ -91,11 +100,72 @@ impl FactoredBlock {
     }
 }
 
-/// One pass of CG over chunks of [`PASS_CHUNK`] on the rayon pool: `x += α p`, `r −= α q`,
-/// `z = D⁻¹ r` (Jacobi; 0 on the factored block, where `D⁻¹` is 0); returns `(r·z, r·r)`.
+/// Jacobi by nodes (consecutive groups of `b` dofs, b = 1, 2 or 3): `z_k = D_k⁻¹ r_k` with `D_k`
+/// the diagonal block of node k, restricted to its dofs outside the factored block (and with a
+/// positive diagonal). For 3D elasticity, 3 × 3 nodal blocks take 10 % fewer CG iterations than
+/// the scalar diagonal (hertz3d n = 20, 60 steps: 3 036 against 3 359).
+#[derive(Debug)]
+struct NodalJacobi {
+    b: usize,
+    /// `D_k⁻¹` of every node, row-major (b² entries), with zero rows and columns on the
+    /// excluded dofs.
+    inv: Vec<f64>,
+}
+
+impl NodalJacobi {
+    /// The nodal blocks of `a` inverted on the dofs not `excluded`; errors (naming the node)
+    /// when one is not positive definite.
+    fn new(a: &SpMat, b: usize, excluded: &[bool], name: &str) -> Result<Self> {
+        let mut blocks = vec![0.0; a.nrows() * b];
+        for (i, j, v) in triplets(a).filter(|(i, j, _)| i / b == j / b) {
+            blocks[(i / b) * b * b + (i % b) * b + j % b] += v;
+        }
+        for (k, block) in blocks.chunks_exact_mut(b * b).enumerate() {
+            let kept = |r: usize| !excluded[k * b + r] && block[r * b + r] > 0.0;
+            let kept: [bool; 3] = std::array::from_fn(|r| r < b && kept(r));
+            let m = nalgebra::Matrix3::from_fn(|r, c| match (kept[r], kept[c]) {
+                (true, true) => block[r * b + c],
+                _ => f64::from(u8::from(r == c)),
+            });
+            let inv = m.cholesky().map(|l| l.inverse()).ok_or_else(|| {
+                factor_err(
+                    name,
+                    format!("not positive definite: the diagonal block of node {k}"),
+                )
+            })?;
+            for r in 0..b {
+                for c in 0..b {
+                    block[r * b + c] = if kept[r] && kept[c] { inv[(r, c)] } else { 0.0 };
+                }
+            }
+        }
+        Ok(Self { b, inv: blocks })
+    }
+
+    /// `z = Π D⁻¹ r` on the nodes of `r` (a whole number of nodes from node `first`), returning
+    /// `r·z`.
+    fn apply(&self, first: usize, r: &[f64], z: &mut [f64], free: &[bool]) -> f64 {
+        let b = self.b;
+        let inv = self.inv[first * b * b..].chunks_exact(b * b);
+        let nodes = z.chunks_exact_mut(b).zip(r.chunks_exact(b));
+        let mut rz = [0.0; 4];
+        for (k, ((z, r), (inv, free))) in nodes.zip(inv.zip(free.chunks_exact(b))).enumerate() {
+            for (a, (za, row)) in z.iter_mut().zip(inv.chunks_exact(b)).enumerate() {
+                let v: f64 = row.iter().zip(r).map(|(m, ri)| m * ri).sum();
+                *za = if free[a] { v } else { 0.0 };
+                rz[k % 4] += r[a] * *za;
+            }
+        }
+        (rz[0] + rz[1]) + (rz[2] + rz[3])
+    }
+}
+
+/// One pass of CG over chunks of [`PASS_CHUNK`] (whole nodes) on the rayon pool: `x += α p`,
+/// `r −= α q`, `z = Π D⁻¹ r` (nodal Jacobi; 0 on the factored block); returns `(r·z, r·r)`.
 fn update(
     (x, r, z): (&mut [f64], &mut [f64], &mut [f64]),
-    (p, q, inv_diag): (&[f64], &[f64], &[f64]),
+    (p, q): (&[f64], &[f64]),
+    (jacobi, free): (&NodalJacobi, &[bool]),
     alpha: f64,
 ) -> (f64, f64) {
     use rayon::prelude::*;
@@ -105,24 +175,22 @@ fn update(
     let theirs = p.par_chunks(PASS_CHUNK).zip(q.par_chunks(PASS_CHUNK));
     let passes = mine
         .zip(z.par_chunks_mut(PASS_CHUNK))
-        .zip(theirs.zip(inv_diag.par_chunks(PASS_CHUNK)))
-        .map(|(((x, r), z), ((p, q), d))| {
-            let (mut rz, mut rr) = ([0.0; 4], [0.0; 4]);
-            for (k, (((xi, ri), zi), ((pi, qi), di))) in x
+        .zip(theirs.zip(free.par_chunks(PASS_CHUNK)))
+        .enumerate()
+        .map(|(c, (((x, r), z), ((p, q), free)))| {
+            let mut rr = [0.0; 4];
+            for (k, ((xi, ri), (pi, qi))) in x
                 .iter_mut()
                 .zip(r.iter_mut())
-                .zip(z.iter_mut())
-                .zip(p.iter().zip(q).zip(d))
+                .zip(p.iter().zip(q))
                 .enumerate()
             {
                 *xi += alpha * pi;
                 *ri -= alpha * qi;
-                *zi = di * *ri;
-                rz[k % 4] += *ri * *zi;
                 rr[k % 4] += *ri * *ri;
             }
-            let sum = |a: [f64; 4]| (a[0] + a[1]) + (a[2] + a[3]);
-            (sum(rz), sum(rr))
+            let rz = jacobi.apply(c * PASS_CHUNK / jacobi.b, r, z, free);
+            (rz, (rr[0] + rr[1]) + (rr[2] + rr[3]))
         });
     let mut sums = Vec::new();
     passes.collect_into_vec(&mut sums);
@@ -154,9 +222,18 @@ pub fn principal_submatrix(a: &SpMat, dofs: &[usize]) -> Result<SpMat> {
 }
 
 impl Pcg {
-    /// Workspaces and `diag(A)⁻¹`; errors when a diagonal entry is negative (A not SPD). A dof
-    /// with a zero diagonal must be kept fixed (`free` false) in [`Pcg::solve`].
+    /// Workspaces and the nodal Jacobi preconditioner; errors when a diagonal entry is
+    /// negative or a nodal block not positive definite (A not SPD). A dof with a zero diagonal
+    /// must be kept fixed (`free` false) in [`Pcg::solve`].
     pub fn new(a: &SpMat, name: &str) -> Result<Self> {
+        Self::with_block(a, name, Vec::new())
+    }
+
+    /// As [`Pcg::new`] with the principal block `A_SS` on `dofs` solved by its sparse Cholesky
+    /// factor (rounded to single precision) in the preconditioner, nodal Jacobi elsewhere:
+    /// `P = blockdiag(A_SS, D)`. Meant for the dofs where the stiffness dominates the step
+    /// matrix (massless dofs of mass redistribution, small cells), which Jacobi resolves badly.
+    pub fn with_block(a: &SpMat, name: &str, dofs: Vec<usize>) -> Result<Self> {
         check_finite(a, name)?;
         let n = a.nrows();
         let diag = diagonal(a);
@@ -166,43 +243,34 @@ impl Pcg {
                 format!("not positive definite: diagonal entry {i} is {}", diag[i]),
             ));
         }
+        let op = BlockSym::new(a).map_or_else(|| SymOperator::Csc(a.clone()), SymOperator::Block);
+        let mut factored = vec![false; n];
+        for &i in &dofs {
+            factored[i] = true;
+        }
+        let jacobi = NodalJacobi::new(a, op.node_size(), &factored, name)?;
+        let block = if dofs.is_empty() {
+            None
+        } else {
+            let factor = SingleFactor::cholesky(
+                &principal_submatrix(a, &dofs)?,
+                &format!("{name} (stiffness-dominated block)"),
+            )?;
+            Some(FactoredBlock {
+                work: vec![0.0; dofs.len()],
+                dofs,
+                factor,
+            })
+        };
         Ok(Self {
-            op: BlockSym::new(a).map_or_else(|| SymOperator::Csc(a.clone()), SymOperator::Block),
-            inv_diag: diag
-                .iter()
-                .map(|&d| if d > 0.0 { 1.0 / d } else { 0.0 })
-                .collect(),
-            block: None,
+            op,
+            jacobi,
+            block,
             r: vec![0.0; n],
             z: vec![0.0; n],
             p: vec![0.0; n],
             q: vec![0.0; n],
         })
-    }
-
-    /// As [`Pcg::new`] with the principal block `A_SS` on `dofs` solved by its sparse Cholesky
-    /// factor (rounded to single precision) in the preconditioner, Jacobi elsewhere:
-    /// `P = blockdiag(A_SS, diag(A))`. Meant for the
-    /// dofs where the stiffness dominates the step matrix (massless dofs of mass redistribution,
-    /// small cells), which Jacobi resolves badly.
-    pub fn with_block(a: &SpMat, name: &str, dofs: Vec<usize>) -> Result<Self> {
-        let mut pcg = Self::new(a, name)?;
-        if dofs.is_empty() {
-            return Ok(pcg);
-        }
-        let factor = SingleFactor::cholesky(
-            &principal_submatrix(a, &dofs)?,
-            &format!("{name} (stiffness-dominated block)"),
-        )?;
-        for &i in &dofs {
-            pcg.inv_diag[i] = 0.0;
-        }
-        pcg.block = Some(FactoredBlock {
-            work: vec![0.0; dofs.len()],
-            dofs,
-            factor,
-        });
-        Ok(pcg)
     }
 
     /// Size of the factored block (0 for plain Jacobi).
@@ -222,7 +290,7 @@ impl Pcg {
     ) -> std::result::Result<usize, f64> {
         let Self {
             op,
-            inv_diag,
+            jacobi,
             block,
             r,
             z,
@@ -234,12 +302,12 @@ impl Pcg {
         let mut b2 = 0.0;
         for i in 0..x.len() {
             r[i] = masked(i, b[i] - q[i]);
-            z[i] = inv_diag[i] * r[i];
             b2 += masked(i, b[i]).powi(2);
         }
         let target2 = tol * tol * b2;
-        // Jacobi leaves z = 0 on the block (inv_diag 0 there), which adds its own part.
-        let mut rz = dot(r, z) + block.as_mut().map_or(0.0, |bl| bl.apply(r, z, free));
+        // Jacobi leaves z = 0 on the block, which adds its own part.
+        let mut rz =
+            jacobi.apply(0, r, z, free) + block.as_mut().map_or(0.0, |bl| bl.apply(r, z, free));
         p.copy_from_slice(z);
         let mut res2 = dot(r, r);
         let mut it = 0;
@@ -252,8 +320,8 @@ impl Pcg {
                 bl.load(|i| r[i] - alpha * q[i]);
             }
             let (xs, rs, zs) = (&mut x[..], &mut r[..], &mut z[..]);
-            let (ps, qs, ds) = (&p[..], &q[..], &inv_diag[..]);
-            let mut pass = move || update((xs, rs, zs), (ps, qs, ds), alpha);
+            let (ps, qs, jac) = (&p[..], &q[..], &*jacobi);
+            let mut pass = move || update((xs, rs, zs), (ps, qs), (jac, free), alpha);
             // The block's residual r_S − α q_S is solved on one thread while the pass runs.
             let ((rz_jacobi, rr), rz_block) = match block.as_mut() {
                 None => (pass(), 0.0),
@@ -270,5 +338,61 @@ impl Pcg {
             it += 1;
         }
         Ok(it)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two 3D nodes: A = [[D₀, C], [Cᵀ, D₁]], all blocks full (stored as 3 × 3 blocks).
+    fn two_nodes(d0: [[f64; 3]; 3]) -> SpMat {
+        let d1 = [[4.0, 1.0, 0.5], [1.0, 3.0, 0.2], [0.5, 0.2, 2.0]];
+        let mut t = TripletBuilder::new(6, 6);
+        for r in 0..3 {
+            for c in 0..3 {
+                t.add(r, c, d0[r][c]);
+                t.add(3 + r, 3 + c, d1[r][c]);
+                t.add(r, 3 + c, -0.1);
+                t.add(3 + c, r, -0.1);
+            }
+        }
+        t.build().unwrap()
+    }
+
+    /// `z_k = D_k⁻¹ r_k` on the kept dofs of each node (`D_k z_k = r_k` there), 0 on the
+    /// excluded and the fixed ones.
+    #[test]
+    fn nodal_jacobi_inverts_the_diagonal_blocks_on_the_kept_dofs() {
+        let a = two_nodes([[5.0, 1.0, -1.0], [1.0, 4.0, 0.3], [-1.0, 0.3, 3.0]]);
+        let excluded = [false, false, false, false, true, false];
+        let jacobi = NodalJacobi::new(&a, 3, &excluded, "A").unwrap();
+        let r = [1.0, -2.0, 0.5, 0.7, 0.0, -0.3];
+        let mut free = [true; 6];
+        free[2] = false;
+        let mut z = [f64::NAN; 6];
+        let rz = jacobi.apply(0, &r, &mut z, &free);
+        assert_eq!((z[2], z[4]), (0.0, 0.0));
+        // Node 1 without its excluded dof 4: the 2 × 2 block on dofs 3 and 5.
+        let kept = [3, 5];
+        for &i in &kept {
+            let block_row: f64 = kept.iter().map(|&j| a.get(i, j).unwrap() * z[j]).sum();
+            assert!(
+                (block_row - r[i]).abs() < 1e-14,
+                "dof {i}: {block_row} against {}",
+                r[i]
+            );
+        }
+        let expected: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+        assert!((rz - expected).abs() < 1e-14);
+    }
+
+    /// A nodal block that is not positive definite (though its diagonal is) is refused,
+    /// naming the node.
+    #[test]
+    fn an_indefinite_nodal_block_is_refused() {
+        let a = two_nodes([[1.0, 2.0, 0.0], [2.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+        let err = Pcg::new(&a, "A").unwrap_err().to_string();
+        assert!(err.contains("node 0"), "{err}");
     }
 }

@@ -17,8 +17,9 @@
 //! with that guess: a point the extrapolated motion pushes through the obstacle enters, a point
 //! whose extrapolated λ is negative leaves, before the first CG solve (hertz3d: 1.27 solves per
 //! step instead of 1.8, 27 % fewer CG iterations).
-//! CG stops at `‖r‖₂ ≤` [`CG_TOLERANCE`] `‖b‖₂`. Preconditioner: Jacobi, with the block of the
-//! massless dofs and their neighbours solved exactly ([`massless_neighbourhood`]).
+//! CG stops at `‖r‖₂ ≤` [`CG_TOLERANCE`] `‖b‖₂`. Preconditioner: Jacobi by nodes, with the block
+//! of the massless dofs and their neighbours solved by its Cholesky factor in single precision
+//! ([`massless_neighbourhood`]).
 
 use crate::contact::SolveInfo;
 use crate::error::{Error, Result};
