@@ -286,7 +286,21 @@ impl Pcg {
         b: &[f64],
         x: &mut [f64],
         free: &[bool],
+        limits: (f64, usize),
+    ) -> std::result::Result<usize, f64> {
+        self.solve_until(b, x, free, limits, (0.0, |_: &[f64]| false))
+    }
+
+    /// As [`Pcg::solve`], and also stops (returning the iterations so far) at the first iterate
+    /// with `‖r‖₂ ≤ check ‖b‖₂` for which `stop(x)` holds: for an outer loop that will change
+    /// the system on seeing such an iterate.
+    pub fn solve_until(
+        &mut self,
+        b: &[f64],
+        x: &mut [f64],
+        free: &[bool],
         (tol, max_iter): (f64, usize),
+        (check, mut stop): (f64, impl FnMut(&[f64]) -> bool),
     ) -> std::result::Result<usize, f64> {
         let Self {
             op,
@@ -311,7 +325,11 @@ impl Pcg {
         p.copy_from_slice(z);
         let mut res2 = dot(r, r);
         let mut it = 0;
+        let check2 = check * check * b2;
         while res2 > target2 {
+            if res2 <= check2 && stop(x) {
+                return Ok(it);
+            }
             if it == max_iter {
                 return Err((res2 / b2).sqrt());
             }

@@ -17,7 +17,11 @@
 //! with that guess: a point the extrapolated motion pushes through the obstacle enters, a point
 //! whose extrapolated λ is negative leaves, before the first CG solve (hertz3d: 1.27 solves per
 //! step instead of 1.8, 27 % fewer CG iterations).
-//! CG stops at `‖r‖₂ ≤` [`CG_TOLERANCE`] `‖b‖₂`. Preconditioner: Jacobi by nodes, with the block
+//! CG stops at `‖r‖₂ ≤` [`CG_TOLERANCE`] `‖b‖₂`, or, once `‖r‖₂ ≤` [`ACTIVE_SET_CHECK`] `‖b‖₂`,
+//! at the first iterate under which 𝒜 would change: that solve is about to be redone on the new
+//! set, and 𝒜 is accepted only after a solve to full tolerance that leaves it unchanged
+//! (hertz3d n = 20, 60 steps: 2 689 CG iterations instead of 3 036, the same 76 solves).
+//! Preconditioner: Jacobi by nodes, with the block
 //! of the massless dofs and their neighbours solved by its Cholesky factor in single precision
 //! ([`massless_neighbourhood`]).
 
@@ -34,6 +38,11 @@ pub const CG_TOLERANCE: f64 = 1e-10;
 const CG_MAX_ITERATIONS: usize = 5000;
 /// Active-set updates allowed per step.
 const MAX_ACTIVE_SET_UPDATES: usize = 50;
+/// Relative residual from which CG stops early at an iterate that changes the active set
+/// (hertz3d n = 20, 60 steps: 2 602, 2 631, 2 689 and 2 783 CG iterations from 1e-5, 1e-6,
+/// 1e-7 and 1e-8, in 113, 77, 76 and 76 solves: from 1e-6 up, the early verdicts are not
+/// spurious).
+const ACTIVE_SET_CHECK: f64 = 1e-7;
 /// Relative thresholds τ of the active-set update (above CG's accuracy, so that round-off
 /// does not flip a grazing point).
 const ACTIVE_SET_TOLERANCE: f64 = 1e-8;
@@ -82,7 +91,7 @@ impl IterativeStep {
     pub fn solve_free(&mut self, r: &[f64], u: &mut [f64], w: &mut [f64]) -> Result<()> {
         self.free.fill(true);
         self.extrapolate(u);
-        self.cg(r, u, (0, f64::NAN))?;
+        self.cg((r, &[]), u, (0, f64::NAN), false)?;
         self.remember(u);
         w.copy_from_slice(u);
         Ok(())
@@ -105,7 +114,7 @@ impl IterativeStep {
         self.update_active((r, offset), u, lambda);
         for update in 1..=MAX_ACTIVE_SET_UPDATES {
             self.fix_active(offset, u);
-            self.cg(r, u, at)?;
+            self.cg((r, offset), u, at, true)?;
             if !self.update_active((r, offset), u, lambda) {
                 self.remember(u);
                 w.copy_from_slice(u);
@@ -142,40 +151,59 @@ impl IterativeStep {
         u: &[f64],
         lambda: &mut [f64],
     ) -> bool {
-        let scale = |x: &[f64]| x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        let tau_g = ACTIVE_SET_TOLERANCE * scale(u).max(f64::MIN_POSITIVE);
-        let tau_l = ACTIVE_SET_TOLERANCE * scale(r).max(f64::MIN_POSITIVE) / self.c.abs();
+        let law = Signorini::new(&self.a, self.c, (r, offset), u);
         let mut changed = false;
-        for (i, &(d, b)) in self.points.iter().enumerate() {
-            if self.active[i] {
-                let l = (r[d] - row_times(&self.a, d, u)) / (self.c * b);
-                lambda[i] = l.max(0.0);
-                if l < -tau_l {
-                    self.active[i] = false;
-                    changed = true;
-                }
-            } else {
-                lambda[i] = 0.0;
-                if offset[i] - b * u[d] < -tau_g {
-                    self.active[i] = true;
-                    changed = true;
-                }
+        for (i, &point) in self.points.iter().enumerate() {
+            let (l, flips) = law.verdict(i, point, self.active[i], u);
+            lambda[i] = l.max(0.0);
+            if flips {
+                self.active[i] = !self.active[i];
+                changed = true;
             }
         }
         changed
     }
 
-    fn cg(&mut self, r: &[f64], u: &mut [f64], (step, time): (usize, f64)) -> Result<()> {
-        self.pcg
-            .solve(r, u, &self.free, (CG_TOLERANCE, CG_MAX_ITERATIONS))
-            .map_err(|res| Error::ContactSolver {
-                step,
-                time,
-                reason: format!(
-                    "cg did not converge: relative residual {res:.3e} after \
+    /// CG on the free dofs; when `may_stop`, it stops early (from a residual of
+    /// [`ACTIVE_SET_CHECK`] `‖b‖₂` down) at an iterate for which the active set would change,
+    /// since the next update re-solves anyway.
+    fn cg(
+        &mut self,
+        (r, offset): (&[f64], &[f64]),
+        u: &mut [f64],
+        (step, time): (usize, f64),
+        may_stop: bool,
+    ) -> Result<()> {
+        let Self {
+            pcg,
+            a,
+            c,
+            points,
+            active,
+            free,
+            ..
+        } = self;
+        let changes = |u: &[f64]| {
+            let law = Signorini::new(a, *c, (r, offset), u);
+            let mut points = points.iter().zip(active.iter()).enumerate();
+            points.any(|(i, (&point, &act))| law.verdict(i, point, act, u).1)
+        };
+        let check = if may_stop { ACTIVE_SET_CHECK } else { 0.0 };
+        pcg.solve_until(
+            r,
+            u,
+            free,
+            (CG_TOLERANCE, CG_MAX_ITERATIONS),
+            (check, changes),
+        )
+        .map_err(|res| Error::ContactSolver {
+            step,
+            time,
+            reason: format!(
+                "cg did not converge: relative residual {res:.3e} after \
                      {CG_MAX_ITERATIONS} iterations"
-                ),
-            })?;
+            ),
+        })?;
         Ok(())
     }
 
@@ -204,6 +232,43 @@ impl IterativeStep {
         self.history.rotate_right(1);
         self.history[0].copy_from_slice(u);
         self.filled = (self.filled + 1).min(4);
+    }
+}
+
+/// The Signorini law at the contact points for a step's right-hand side `r` and offsets `o`,
+/// with the thresholds of the active-set update for the guess `u`.
+struct Signorini<'a> {
+    a: &'a SpMat,
+    c: f64,
+    r: &'a [f64],
+    offset: &'a [f64],
+    tau_g: f64,
+    tau_l: f64,
+}
+
+impl<'a> Signorini<'a> {
+    fn new(a: &'a SpMat, c: f64, (r, offset): (&'a [f64], &'a [f64]), u: &[f64]) -> Self {
+        let scale = |x: &[f64]| x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        Self {
+            a,
+            c,
+            r,
+            offset,
+            tau_g: ACTIVE_SET_TOLERANCE * scale(u).max(f64::MIN_POSITIVE),
+            tau_l: ACTIVE_SET_TOLERANCE * scale(r).max(f64::MIN_POSITIVE) / c.abs(),
+        }
+    }
+
+    /// Point i = `(d_i, b_i)` under `u`: its multiplier `λ_i = (r − A u)_{d_i} / (c b_i)` when
+    /// active (0 otherwise), and whether it leaves 𝒜 (`λ_i < −τ_λ`) or enters it
+    /// (`g_i = o_i − b_i u_{d_i} < −τ_g`).
+    fn verdict(&self, i: usize, (d, b): (usize, f64), active: bool, u: &[f64]) -> (f64, bool) {
+        if active {
+            let l = (self.r[d] - row_times(self.a, d, u)) / (self.c * b);
+            (l, l < -self.tau_l)
+        } else {
+            (0.0, self.offset[i] - b * u[d] < -self.tau_g)
+        }
     }
 }
 
