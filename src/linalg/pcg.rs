@@ -145,15 +145,29 @@ impl NodalJacobi {
     /// `z = Π D⁻¹ r` on the nodes of `r` (a whole number of nodes from node `first`), returning
     /// `r·z`.
     fn apply(&self, first: usize, r: &[f64], z: &mut [f64], free: &[bool]) -> f64 {
-        let b = self.b;
-        let inv = self.inv[first * b * b..].chunks_exact(b * b);
-        let nodes = z.chunks_exact_mut(b).zip(r.chunks_exact(b));
+        match self.b {
+            3 => self.apply_nodes::<3>(first, r, z, free),
+            2 => self.apply_nodes::<2>(first, r, z, free),
+            _ => self.apply_nodes::<1>(first, r, z, free),
+        }
+    }
+
+    /// [`NodalJacobi::apply`] for nodes of `B` dofs.
+    fn apply_nodes<const B: usize>(
+        &self,
+        first: usize,
+        r: &[f64],
+        z: &mut [f64],
+        free: &[bool],
+    ) -> f64 {
+        let inv = self.inv[first * B * B..].chunks_exact(B * B);
+        let nodes = z.chunks_exact_mut(B).zip(r.chunks_exact(B));
         let mut rz = [0.0; 4];
-        for (k, ((z, r), (inv, free))) in nodes.zip(inv.zip(free.chunks_exact(b))).enumerate() {
-            for (a, (za, row)) in z.iter_mut().zip(inv.chunks_exact(b)).enumerate() {
-                let v: f64 = row.iter().zip(r).map(|(m, ri)| m * ri).sum();
-                *za = if free[a] { v } else { 0.0 };
-                rz[k % 4] += r[a] * *za;
+        for (k, ((z, r), (inv, free))) in nodes.zip(inv.zip(free.chunks_exact(B))).enumerate() {
+            for a in 0..B {
+                let v: f64 = (0..B).map(|c| inv[a * B + c] * r[c]).sum();
+                z[a] = if free[a] { v } else { 0.0 };
+                rz[k % 4] += r[a] * z[a];
             }
         }
         (rz[0] + rz[1]) + (rz[2] + rz[3])

@@ -91,7 +91,7 @@ impl IterativeStep {
     pub fn solve_free(&mut self, r: &[f64], u: &mut [f64], w: &mut [f64]) -> Result<()> {
         self.free.fill(true);
         self.extrapolate(u);
-        self.cg((r, &[]), u, (0, f64::NAN), false)?;
+        self.cg(r, u, (0, f64::NAN), None)?;
         self.remember(u);
         w.copy_from_slice(u);
         Ok(())
@@ -107,15 +107,16 @@ impl IterativeStep {
         at: (usize, f64),
     ) -> Result<SolveInfo> {
         self.extrapolate(u);
+        let tau = thresholds(u, r, self.c);
         // The active set predicted by the extrapolated solution: one update before the first
         // solve, so that the points entering or leaving contact on smooth motion do not cost a
         // second solve.
         self.fix_active(offset, u);
-        self.update_active((r, offset), u, lambda);
+        self.update_active((r, offset), tau, u, lambda);
         for update in 1..=MAX_ACTIVE_SET_UPDATES {
             self.fix_active(offset, u);
-            self.cg((r, offset), u, at, true)?;
-            if !self.update_active((r, offset), u, lambda) {
+            self.cg(r, u, at, Some((offset, tau)))?;
+            if !self.update_active((r, offset), tau, u, lambda) {
                 self.remember(u);
                 w.copy_from_slice(u);
                 return Ok(SolveInfo {
@@ -143,15 +144,16 @@ impl IterativeStep {
         }
     }
 
-    /// One update of the active set from `u`, writing `λ` on the active points (0 elsewhere);
-    /// true when the set changed.
+    /// One update of the active set from `u` with the thresholds `tau`, writing `λ` on the
+    /// active points (0 elsewhere); true when the set changed.
     fn update_active(
         &mut self,
         (r, offset): (&[f64], &[f64]),
+        tau: (f64, f64),
         u: &[f64],
         lambda: &mut [f64],
     ) -> bool {
-        let law = Signorini::new(&self.a, self.c, (r, offset), u);
+        let law = Signorini::new(&self.a, self.c, (r, offset), tau);
         let mut changed = false;
         for (i, &point) in self.points.iter().enumerate() {
             let (l, flips) = law.verdict(i, point, self.active[i], u);
@@ -164,15 +166,15 @@ impl IterativeStep {
         changed
     }
 
-    /// CG on the free dofs; when `may_stop`, it stops early (from a residual of
-    /// [`ACTIVE_SET_CHECK`] `‖b‖₂` down) at an iterate for which the active set would change,
-    /// since the next update re-solves anyway.
+    /// CG on the free dofs; with `(offset, tau)`, it stops early (from a residual of
+    /// [`ACTIVE_SET_CHECK`] `‖b‖₂` down) at an iterate under which the active set would change,
+    /// since the next update re-solves anyway (the same verdict as [`Self::update_active`]'s).
     fn cg(
         &mut self,
-        (r, offset): (&[f64], &[f64]),
+        r: &[f64],
         u: &mut [f64],
         (step, time): (usize, f64),
-        may_stop: bool,
+        stop: Option<(&[f64], (f64, f64))>,
     ) -> Result<()> {
         let Self {
             pcg,
@@ -183,12 +185,18 @@ impl IterativeStep {
             free,
             ..
         } = self;
+        let law = stop.map(|(offset, tau)| Signorini::new(a, *c, (r, offset), tau));
         let changes = |u: &[f64]| {
-            let law = Signorini::new(a, *c, (r, offset), u);
-            let mut points = points.iter().zip(active.iter()).enumerate();
-            points.any(|(i, (&point, &act))| law.verdict(i, point, act, u).1)
+            law.as_ref().is_some_and(|law| {
+                let mut points = points.iter().zip(active.iter()).enumerate();
+                points.any(|(i, (&point, &act))| law.verdict(i, point, act, u).1)
+            })
         };
-        let check = if may_stop { ACTIVE_SET_CHECK } else { 0.0 };
+        let check = if stop.is_some() {
+            ACTIVE_SET_CHECK
+        } else {
+            0.0
+        };
         pcg.solve_until(
             r,
             u,
@@ -236,7 +244,7 @@ impl IterativeStep {
 }
 
 /// The Signorini law at the contact points for a step's right-hand side `r` and offsets `o`,
-/// with the thresholds of the active-set update for the guess `u`.
+/// with the thresholds of the active-set update.
 struct Signorini<'a> {
     a: &'a SpMat,
     c: f64,
@@ -246,16 +254,30 @@ struct Signorini<'a> {
     tau_l: f64,
 }
 
+/// The thresholds `(τ_g, τ_λ)` of the active-set update, relative to the scales of the guess `u`
+/// and of `r / c` (fixed for a step: the check inside CG and the update give the same verdicts).
+fn thresholds(u: &[f64], r: &[f64], c: f64) -> (f64, f64) {
+    let scale = |x: &[f64]| x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    (
+        ACTIVE_SET_TOLERANCE * scale(u).max(f64::MIN_POSITIVE),
+        ACTIVE_SET_TOLERANCE * scale(r).max(f64::MIN_POSITIVE) / c.abs(),
+    )
+}
+
 impl<'a> Signorini<'a> {
-    fn new(a: &'a SpMat, c: f64, (r, offset): (&'a [f64], &'a [f64]), u: &[f64]) -> Self {
-        let scale = |x: &[f64]| x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    fn new(
+        a: &'a SpMat,
+        c: f64,
+        (r, offset): (&'a [f64], &'a [f64]),
+        (tau_g, tau_l): (f64, f64),
+    ) -> Self {
         Self {
             a,
             c,
             r,
             offset,
-            tau_g: ACTIVE_SET_TOLERANCE * scale(u).max(f64::MIN_POSITIVE),
-            tau_l: ACTIVE_SET_TOLERANCE * scale(r).max(f64::MIN_POSITIVE) / c.abs(),
+            tau_g,
+            tau_l,
         }
     }
 
