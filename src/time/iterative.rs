@@ -21,9 +21,8 @@
 //! at the first iterate under which 𝒜 would change: that solve is about to be redone on the new
 //! set, and 𝒜 is accepted only after a solve to full tolerance that leaves it unchanged
 //! (hertz3d n = 20, 60 steps: 2 689 CG iterations instead of 3 036, the same 76 solves).
-//! Preconditioner: Jacobi by nodes, with the block
-//! of the massless dofs and their neighbours solved by its Cholesky factor in single precision
-//! ([`massless_neighbourhood`]).
+//! Preconditioner: Jacobi by nodes, with the block of the massless dofs and their neighbours
+//! solved by its Cholesky factor in single precision ([`massless_neighbourhood`]).
 
 use crate::contact::SolveInfo;
 use crate::error::{Error, Result};
@@ -40,8 +39,8 @@ const CG_MAX_ITERATIONS: usize = 5000;
 const MAX_ACTIVE_SET_UPDATES: usize = 50;
 /// Relative residual from which CG stops early at an iterate that changes the active set
 /// (hertz3d n = 20, 60 steps: 2 602, 2 631, 2 689 and 2 783 CG iterations from 1e-5, 1e-6,
-/// 1e-7 and 1e-8, in 113, 77, 76 and 76 solves: from 1e-6 up, the early verdicts are not
-/// spurious).
+/// 1e-7 and 1e-8, in 113, 77, 76 and 76 solves: at 1e-5 many early verdicts are spurious, from
+/// 1e-6 down they are not).
 const ACTIVE_SET_CHECK: f64 = 1e-7;
 /// Relative thresholds τ of the active-set update (above CG's accuracy, so that round-off
 /// does not flip a grazing point).
@@ -254,16 +253,6 @@ struct Signorini<'a> {
     tau_l: f64,
 }
 
-/// The thresholds `(τ_g, τ_λ)` of the active-set update, relative to the scales of the guess `u`
-/// and of `r / c` (fixed for a step: the check inside CG and the update give the same verdicts).
-fn thresholds(u: &[f64], r: &[f64], c: f64) -> (f64, f64) {
-    let scale = |x: &[f64]| x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    (
-        ACTIVE_SET_TOLERANCE * scale(u).max(f64::MIN_POSITIVE),
-        ACTIVE_SET_TOLERANCE * scale(r).max(f64::MIN_POSITIVE) / c.abs(),
-    )
-}
-
 impl<'a> Signorini<'a> {
     fn new(
         a: &'a SpMat,
@@ -294,7 +283,17 @@ impl<'a> Signorini<'a> {
     }
 }
 
-/// The dofs the preconditioner solves exactly: the massless dofs (mass redistribution's Γ_C
+/// The thresholds `(τ_g, τ_λ)` of the active-set update, relative to the scales of the guess `u`
+/// and of `r / c` (fixed for a step: the check inside CG and the update give the same verdicts).
+fn thresholds(u: &[f64], r: &[f64], c: f64) -> (f64, f64) {
+    let scale = |x: &[f64]| x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    (
+        ACTIVE_SET_TOLERANCE * scale(u).max(f64::MIN_POSITIVE),
+        ACTIVE_SET_TOLERANCE * scale(r).max(f64::MIN_POSITIVE) / c.abs(),
+    )
+}
+
+/// The dofs the preconditioner factors: the massless dofs (mass redistribution's Γ_C
 /// normal dofs, `M_ii = 0`) and every dof K couples to them (the cells touching them, whose
 /// redistributed mass is far from diagonally dominant). Jacobi alone needs about 400 CG
 /// iterations per solve on `hertz3d`, 20 to 40 with this block (4 422 of 51 651 dofs); the
