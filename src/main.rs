@@ -9,6 +9,21 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 
+/// `println!` that ends the program quietly when stdout is a closed pipe (`dyncontact list |
+/// head -1`), as Unix tools do, instead of panicking; another write error is reported (exit 1).
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            if e.kind() != std::io::ErrorKind::BrokenPipe {
+                eprintln!("error: writing to stdout: {e}");
+                std::process::exit(1);
+            }
+            std::process::exit(0);
+        }
+    }};
+}
+
 /// Verification and benchmark suite for elastodynamics with unilateral contact.
 #[derive(Parser)]
 #[command(name = "dyncontact", version, about)]
@@ -128,24 +143,24 @@ fn list(dir: &PathBuf) -> Result<()> {
     entries.sort();
     for p in entries {
         match cases::load(&p, &Overrides::default()) {
-            Ok(c) => println!(
+            Ok(c) => say!(
                 "{}  ({}, space {}, scheme {})",
                 p.display(),
                 c.kind(),
                 c.run().space,
                 c.run().scheme
             ),
-            Err(e) => println!("{}  (invalid: {e})", p.display()),
+            Err(e) => say!("{}  (invalid: {e})", p.display()),
         }
     }
-    println!("spaces: {}", dyncontact::space::SPACES.join(", "));
+    say!("spaces: {}", dyncontact::space::SPACES.join(", "));
     print_registry("schemes", dyncontact::time::SCHEMES);
     print_registry("contact formulations", dyncontact::contact::FORMULATIONS);
-    println!(
+    say!(
         "contact solvers: {}",
         dyncontact::contact::SOLVERS.join(", ")
     );
-    println!(
+    say!(
         "linear solvers: {}",
         dyncontact::time::LINEAR_SOLVERS.join(", ")
     );
@@ -169,7 +184,7 @@ fn print_registry<T: ?Sized, I>(kind: &str, registry: &[dyncontact::method::Entr
             }
         })
         .collect();
-    println!("{kind}: {}", entries.join(", "));
+    say!("{kind}: {}", entries.join(", "));
 }
 
 fn parse_shard(s: &str) -> std::result::Result<(usize, usize), String> {
@@ -209,7 +224,7 @@ fn sweep(
         .iter()
         .filter(|r| r.status != jobs::Status::Ok)
         .count();
-    println!(
+    say!(
         "wrote {}/{name} ({} runs, {failed} not ok)",
         out.display(),
         records.len()
@@ -217,7 +232,7 @@ fn sweep(
     if shard.is_none() {
         let orders = orders::orders(&records);
         orders::write_orders(&out.join("orders.csv"), &orders)?;
-        println!("wrote {}/orders.csv", out.display());
+        say!("wrote {}/orders.csv", out.display());
     }
     Ok(())
 }
@@ -244,7 +259,7 @@ fn main_result(cli: Cli) -> Result<()> {
                 resume,
             };
             let records = dyncontact::report::report(&cases, &out, opts)?;
-            println!(
+            say!(
                 "{} runs; wrote {}/index.md and index.html",
                 records.len(),
                 out.display()
@@ -253,7 +268,7 @@ fn main_result(cli: Cli) -> Result<()> {
         }
         Command::Merge { records, out } => {
             let records = dyncontact::report::merge(&records, &out)?;
-            println!(
+            say!(
                 "{} runs merged; wrote {}/index.md and index.html",
                 records.len(),
                 out.display()
@@ -299,16 +314,16 @@ fn main_result(cli: Cli) -> Result<()> {
             run::write_run(&out, &result)?;
             let s = &result.summary;
             let m = &s.metrics;
-            println!(
+            say!(
                 "{} {} {} ({}): {} dofs, {} steps in {:.3} s; energy drift {:.3e}, max penetration {:.3e}",
                 s.case, s.space, s.scheme, s.parameters, s.dofs, s.steps, s.wall_time, m.energy_drift, m.max_penetration
             );
-            println!(
+            say!(
                 "wrote {}/{{timeseries.csv, summary.csv, energy.png, contact.png}}",
                 out.display()
             );
             if let Some(f) = &fields {
-                println!("wrote {}/{}.pvd", f.dir.display(), s.case);
+                say!("wrote {}/{}.pvd", f.dir.display(), s.case);
             }
             Ok(())
         }

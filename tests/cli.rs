@@ -1,7 +1,7 @@
 //! The binary end to end: outputs of `run`, and clear errors (exit code ≠ 0, no panic) on bad input.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
 
 fn dyncontact(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_dyncontact"))
@@ -293,4 +293,20 @@ fn bad_block_case_files_give_errors_naming_the_field() {
         ]);
         assert_clear_error(&out, needle);
     }
+}
+
+/// A closed stdout (`dyncontact list | head -1`) ends the program quietly: exit 0, no panic.
+#[test]
+fn a_closed_stdout_pipe_ends_the_program_quietly() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
+        .arg("list")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("binary runs");
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("binary ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "panic: {stderr}");
+    assert!(out.status.success(), "{:?}: {stderr}", out.status);
 }
