@@ -119,6 +119,19 @@ fn cg_is_refused_where_it_does_not_apply() {
     let cd = refused("lumped", "central_difference", 1);
     assert!(cd.contains("cg does not apply"), "{cd}");
     let o = Overrides {
+        elements: Some(4),
+        dt: Some(1e-2),
+        options: Options {
+            contact: Some("penalty".into()),
+            linear_solver: Some("cg".into()),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let case = cases::load(Path::new("cases/block2d.toml"), &o).unwrap();
+    let penalty = run(case.as_ref()).unwrap_err().to_string();
+    assert!(penalty.contains("not the penalty law"), "{penalty}");
+    let o = Overrides {
         options: Options {
             linear_solver: Some("gmres".into()),
             ..Default::default()

@@ -32,6 +32,11 @@ pub struct SolveInfo {
 pub trait Solver: Send {
     /// Name used on the CLI and in reports.
     fn name(&self) -> &'static str;
+    /// Whether the law solved is Signorini's LCP itself, so that a step may enforce it by its
+    /// own means (the cg step's active set); false for a modified law (penalty, Nitsche's).
+    fn signorini(&self) -> bool {
+        true
+    }
     /// Solves the LCP; `lambda` holds a warm start on entry and the solution on exit.
     /// Returns a reason string when the solver fails.
     fn solve(

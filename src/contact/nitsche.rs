@@ -211,6 +211,10 @@ impl Solver for NitscheLaw {
         "nitsche_newton"
     }
 
+    fn signorini(&self) -> bool {
+        false
+    }
+
     fn solve(
         &mut self,
         d: &DMatrix<f64>,

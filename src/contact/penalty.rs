@@ -77,6 +77,10 @@ impl Solver for Penalty {
         "penalty"
     }
 
+    fn signorini(&self) -> bool {
+        false
+    }
+
     fn solve(
         &mut self,
         d: &DMatrix<f64>,

@@ -162,10 +162,18 @@ impl ContactStep {
         solvers: super::Solvers,
     ) -> Result<Self> {
         check_stiffness_resolved(problem, k, coefs)?;
+        let signorini = solvers.contact.signorini();
         let cg = match solvers.linear {
             LinearSolver::Direct => false,
+            LinearSolver::Cg if !signorini => {
+                return Err(Error::Unsupported(format!(
+                    "linear solver cg enforces Signorini's law by its own active set, not the {} \
+                     law (use direct)",
+                    solvers.contact.name()
+                )))
+            }
             LinearSolver::Cg => true,
-            LinearSolver::Auto => cg_pays(problem, k),
+            LinearSolver::Auto => signorini && cg_pays(problem, k),
         };
         Ok(if cg {
             Self::Iterative(IterativeStep::new(problem, k, coefs, c)?)
