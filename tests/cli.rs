@@ -89,6 +89,10 @@ fn bad_command_line_values_give_clear_errors() {
         "mesh.cells",
     );
     assert_clear_error(
+        &dyncontact(&["run", "cases/bar1d.toml", "--cells", "tet", "--out", o]),
+        "--cells",
+    );
+    assert_clear_error(
         &dyncontact(&[
             "run",
             "cases/bar1d.toml",

@@ -332,12 +332,21 @@ impl CaseFile {
 
     /// The validated case with `overrides` applied.
     pub fn build(&self, overrides: &Overrides) -> Result<Box<dyn Case>> {
-        if let (Some(m), false) = (&overrides.mesh, matches!(self.spec, Spec::Body(_))) {
-            return Err(Error::invalid(
-                "--mesh",
-                m,
-                "a mesh file applies to the 2D/3D body cases only",
-            ));
+        if !matches!(self.spec, Spec::Body(_)) {
+            let mesh_only = [
+                (
+                    "--mesh",
+                    overrides.mesh.as_ref().map(|m| m.display().to_string()),
+                ),
+                ("--cells", overrides.cells.clone()),
+            ];
+            if let Some((flag, value)) = mesh_only.into_iter().find_map(|(f, v)| Some((f, v?))) {
+                return Err(Error::invalid(
+                    flag,
+                    value,
+                    "applies to the 2D/3D body cases only",
+                ));
+            }
         }
         Ok(match &self.spec {
             Spec::Bar1d(s) => Box::new(bar1d::Bar1d::from_spec(s.clone(), overrides)?),
