@@ -2,6 +2,7 @@
 
 use super::trajectory::Row;
 use crate::cases::Impact;
+use crate::exact::hertz::Hertz;
 
 /// Metrics of one run. `None` where a metric does not apply (no exact solution, 0D case, …).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -212,6 +213,47 @@ pub fn compute(
     }
 }
 
+/// What an impact run measures against an impact model: the contact duration (first to last
+/// sample with a contact force, plus one step), the peak total force and the maximum approach
+/// of the centre of mass (None for a case without one).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImpactMeasures {
+    /// Contact duration t_c.
+    pub duration: f64,
+    /// Peak total contact force F_max.
+    pub peak_force: f64,
+    /// Maximum approach δ_max.
+    pub max_approach: Option<f64>,
+}
+
+impl ImpactMeasures {
+    /// The measures of a time series, None when it has no contact.
+    pub fn of(rows: &[Row]) -> Option<Self> {
+        let first = rows.iter().find(|r| r.force_contact > 0.0)?;
+        let last = rows.iter().rev().find(|r| r.force_contact > 0.0)?;
+        let dt = rows.get(1).map_or(0.0, |r| r.t - rows[0].t);
+        let approach = rows.iter().filter_map(|r| r.approach);
+        Some(Self {
+            duration: last.t - first.t + dt,
+            peak_force: rows.iter().map(|r| r.force_contact).fold(0.0, f64::max),
+            max_approach: approach
+                .clone()
+                .next()
+                .map(|_| approach.fold(f64::NEG_INFINITY, f64::max)),
+        })
+    }
+
+    /// Signed relative errors `(x_h − x) / x` of (t_c, F_max, δ_max) against `h` (sphere).
+    pub fn errors(&self, h: &Hertz) -> [Option<f64>; 3] {
+        let rel = |x: f64, y: Option<f64>| y.map(|y| (x - y) / y);
+        [
+            rel(self.duration, h.duration()),
+            rel(self.peak_force, h.peak_force()),
+            self.max_approach.and_then(|d| rel(d, h.max_approach())),
+        ]
+    }
+}
+
 /// The Hertz metrics of an impact run: duration, peak force, maximum approach (sphere), the
 /// pressure profile at peak force (`peak`: the nodal forces λ at the sample of largest total
 /// force and the tributary areas), and the restitution from the centre of mass's velocity
@@ -220,20 +262,13 @@ pub fn compute(
 pub fn hertz(m: &mut Metrics, rows: &[Row], (lambda, area): (&[f64], &[f64]), impact: &Impact) {
     let h = &impact.hertz;
     let rel = |x: f64, y: Option<f64>| y.map(|y| (x - y).abs() / y);
-    let active: Vec<&Row> = rows.iter().filter(|r| r.force_contact > 0.0).collect();
-    let (Some(first), Some(last)) = (active.first(), active.last()) else {
+    let Some(measures) = ImpactMeasures::of(rows) else {
         return;
     };
-    let dt = rows.get(1).map_or(0.0, |r| r.t - rows[0].t);
-    m.err_contact_duration = rel(last.t - first.t + dt, h.duration());
-    let f_max = rows.iter().map(|r| r.force_contact).fold(0.0, f64::max);
-    m.err_peak_force = rel(f_max, h.peak_force());
-    let d_max = rows
-        .iter()
-        .filter_map(|r| r.approach)
-        .fold(f64::NEG_INFINITY, f64::max);
-    m.err_max_approach = rel(d_max, h.max_approach());
+    [m.err_contact_duration, m.err_peak_force, m.err_max_approach] =
+        measures.errors(h).map(|e| e.map(f64::abs));
     let n = rows.len();
+    let dt = rows.get(1).map_or(0.0, |r| r.t - rows[0].t);
     if n >= 2 && rows[n - 1].force_contact == 0.0 && rows[n - 2].force_contact == 0.0 {
         if let (Some(a), Some(b)) = (rows[n - 1].approach, rows[n - 2].approach) {
             m.restitution_eff = Some(-(a - b) / (dt * h.speed));
