@@ -443,6 +443,7 @@ impl Case for Body {
                 .filter(|(_, &x)| x != 0.0)
                 .map(|(i, x)| (i * d + d - 1, x / m))
                 .collect(),
+            mass: m,
             positions: fem
                 .contact_vertices
                 .iter()

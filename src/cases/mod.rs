@@ -67,6 +67,9 @@ pub struct Impact {
     /// `(dof, w)`: the centre of mass's displacement towards the plane is `δ = −Σ w U_dof`
     /// (`w = ∫ρ φ_i / m` on the normal components).
     pub centre: Vec<(usize, f64)>,
+    /// The discrete body's mass `m = Σ ∫ρ φ_i` (the sphere's less what straight-sided cells
+    /// lose).
+    pub mass: f64,
     /// Initial coordinates of each contact point (for the pressure profile).
     pub positions: Vec<[f64; 3]>,
 }

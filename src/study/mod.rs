@@ -1,10 +1,12 @@
 //! The study layer: one [`run`] (its probe [`trajectory`] and [`metrics`]), the [`jobs`] of the
 //! `[[sweep]]` tables run in parallel, streamed to a [`journal`] (resumable), their [`records`],
-//! [`reference`] errors for cases without an exact solution, and observed [`orders`].
+//! [`reference`] errors for cases without an exact solution, and observed [`orders`]; the
+//! [`finite_body`] law of a sphere (static solves), the reference beside Hertz's half-space.
 //!
 //! Data flows one way: `trajectory` ← `metrics` ← `run` ← `jobs` ← `records`, `reference`,
 //! `orders`. The report ([`crate::report`]) reads this layer; nothing here reads the report.
 
+pub mod finite_body;
 pub mod jobs;
 pub mod journal;
 pub mod metrics;

@@ -1,0 +1,140 @@
+//! The discrete body's own quasi-static impact: the reference that separates Hertz's model error
+//! (a half-space) from the discretisation and the dynamics of a sphere's impact.
+//!
+//! A quasi-static impact decelerates the body as a rigid body, so its inertia is a uniform body
+//! force balancing the contact force F. At rest under a uniform body force of total F, pressed on
+//! the plane, the approach of the centre of mass is Hertz's less a finite-body term:
+//!
+//! `δ(F) = (F/k)^{2/3} − c F / (E* R)`, `k = (4/3) E* √R`.
+//!
+//! Hertz measures δ to points at infinity of a half-space; a sphere's centre lies at depth R,
+//! where Boussinesq's point load has already moved the half-space by
+//! `(3 − 2ν) F / (2π (1 − ν) E* R)` (c ≈ 0.55 at ν = 0.3), less what the body force compresses
+//! the sphere by. [`finite_body`] measures c on the case's own mesh by static solves and returns
+//! the Hertz reference with the body's mass and that compliance ([`Hertz::finite_body`]):
+//! the impact `m δ̈ = −F(δ)` it predicts differs from a dynamic run only by the vibrations.
+//!
+//! A static solve is backward Euler from rest with `Δt = 10 t_c`: each step
+//! `(M/Δt² + K) U_{n+1} = F + M (U_n + Δt V_n)/Δt² − B_Nᵀλ` contracts towards the equilibrium
+//! `K U = F − B_Nᵀλ` (independent of M) by about `(ω Δt)⁻² ≈ 10⁻³` per step, ω the contact
+//! frequency; it stops when the approach changes by less than [`TOLERANCE`] of itself.
+
+use crate::cases::{Case, Impact};
+use crate::error::{Error, Result};
+use crate::exact::hertz::Hertz;
+use crate::time::backward_euler::BackwardEuler;
+use crate::time::{LinearSolver, Scheme, Solvers};
+
+/// The loads of [`finite_body`], as fractions of Hertz's peak force.
+pub const LOADS: [f64; 2] = [0.5, 1.0];
+/// Relative change of the approach between two steps at which a static solve stops.
+pub const TOLERANCE: f64 = 1e-12;
+/// Steps a static solve may take.
+const MAX_STEPS: usize = 60;
+/// The static solves' time step, in Hertz contact durations.
+const STEP_IN_DURATIONS: f64 = 10.0;
+
+/// The body at rest under a uniform body force of total `force`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StaticPoint {
+    /// Total contact force F (= the body force).
+    pub force: f64,
+    /// Approach δ of the centre of mass.
+    pub approach: f64,
+    /// Hertz's approach `(F/k)^{2/3}` under the same force.
+    pub hertz: f64,
+}
+
+/// The measured finite-body law and the impact it predicts.
+#[derive(Debug, Clone)]
+pub struct FiniteBody {
+    /// The static solves, by increasing force.
+    pub points: Vec<StaticPoint>,
+    /// `c = (δ_Hertz − δ) E* R / F`, least squares over the points.
+    pub coefficient: f64,
+    /// Hertz with the discrete body's mass, half-space.
+    pub half_space: Hertz,
+    /// Hertz with the discrete body's mass and compliance `c / (E* R)`.
+    pub hertz: Hertz,
+}
+
+impl StaticPoint {
+    /// `(δ_Hertz − δ) E* R / F` of this point.
+    pub fn coefficient(&self, h: &Hertz) -> f64 {
+        (self.hertz - self.approach) * h.e_star * h.radius / self.force
+    }
+}
+
+/// Measures the finite-body law of `case` (a sphere against Hertz: an error otherwise) at the
+/// [`LOADS`] and fits its coefficient.
+pub fn finite_body(case: &dyn Case) -> Result<FiniteBody> {
+    let impact = case.impact().filter(|i| i.hertz.dim == 3).ok_or_else(|| {
+        Error::Unsupported(format!(
+            "the finite-body law needs a sphere against Hertz, not {}",
+            case.kind()
+        ))
+    })?;
+    let half_space = impact.hertz.finite_body(impact.mass, 0.0)?;
+    let (Some(f_max), Some(t_c)) = (half_space.peak_force(), half_space.duration()) else {
+        return Err(Error::Unsupported("Hertz gives no peak force".into()));
+    };
+    let points = LOADS
+        .iter()
+        .map(|&x| static_point(case, &impact, x * f_max, STEP_IN_DURATIONS * t_c))
+        .collect::<Result<Vec<_>>>()?;
+    // Least squares of (δ_H − δ) = c_f F.
+    let compliance = points
+        .iter()
+        .map(|p| (p.hertz - p.approach) * p.force)
+        .sum::<f64>()
+        / points.iter().map(|p| p.force * p.force).sum::<f64>();
+    Ok(FiniteBody {
+        coefficient: compliance * half_space.e_star * half_space.radius,
+        hertz: half_space.finite_body(impact.mass, compliance)?,
+        half_space,
+        points,
+    })
+}
+
+/// The static state of `case` under a uniform body force of total `force` towards the plane
+/// (standard mass, nodal contact, direct solver), by backward Euler steps of `dt` from rest.
+pub fn static_point(case: &dyn Case, impact: &Impact, force: f64, dt: f64) -> Result<StaticPoint> {
+    let space = crate::space::by_name("standard")?;
+    let mut problem = case.problem(space.as_ref())?;
+    problem.v0.fill(0.0);
+    problem.f.fill(0.0);
+    // The body force ρ b with ∫ρ b = −F e_d: the centre's weights are ∫ρ φ_i / m.
+    for &(j, w) in &impact.centre {
+        problem.f[j] = -force * w;
+    }
+    let solvers = Solvers {
+        contact: crate::contact::by_name("active_set", problem.contact.len())?,
+        linear: LinearSolver::Direct,
+    };
+    let mut integrator = BackwardEuler.prepare(&problem, dt, solvers)?;
+    let approach = |u: &[f64]| -impact.centre.iter().map(|&(j, w)| w * u[j]).sum::<f64>();
+    let mut last = 0.0;
+    for _ in 0..MAX_STEPS {
+        integrator.step()?;
+        let s = integrator.state();
+        let delta = approach(s.u);
+        if (delta - last).abs() <= TOLERANCE * delta.abs() {
+            let force: f64 = s.lambda.iter().sum();
+            return Ok(StaticPoint {
+                force,
+                approach: delta,
+                hertz: impact.hertz.approach(force),
+            });
+        }
+        last = delta;
+    }
+    Err(Error::Diverged {
+        step: MAX_STEPS,
+        time: MAX_STEPS as f64 * dt,
+        reason: format!(
+            "{}: no static equilibrium under the body force {force:.4e} after {MAX_STEPS} \
+             backward Euler steps of {dt:.3e} (approach {last:.6e})",
+            case.kind()
+        ),
+    })
+}
