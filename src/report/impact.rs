@@ -1,7 +1,9 @@
 //! The report's figures of a curved-body impact (cases with a Hertz reference), from one run of
 //! the case's defaults (`--quick`: its first sweep's coarsest level):
 //! - `<case>_force.png`: the total contact force against time, with Hertz's quasi-static
-//!   `F(t)` dashed (sphere; the disc has no closed form);
+//!   `F(t)` dashed (sphere; the disc has no closed form) and, for the sphere, the quasi-static
+//!   impact of the discrete body's own static law ([`crate::study::finite_body`]); the caption
+//!   gives the run's errors against both, and `<case>_finite_body.csv` the static solves;
 //! - `<case>_pressure.png`: the pressure `λ_r / |Γ_C|_r` of every Γ_C vertex at peak force
 //!   against its distance from the contact centre, with Hertz's profile `p₀ √(1 − r²/a²)` for
 //!   the computed force dashed;
@@ -14,8 +16,12 @@ use super::figures::Figure;
 use crate::cases::{CaseFile, Impact, Overrides};
 use crate::error::{Error, Result};
 use crate::fem::discretisation::Discretisation;
+use crate::output::csv::write_rows;
 use crate::output::field_plot::{cell_map, scatter_plot, Cell};
+use crate::output::fmt_float;
 use crate::output::plot::{time_plot, Series, PALETTE};
+use crate::study::finite_body::{finite_body, FiniteBody};
+use crate::study::metrics::ImpactMeasures;
 use crate::study::run::{run, Peak};
 use plotters::style::BLACK;
 use std::path::Path;
@@ -53,12 +59,20 @@ pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Fi
         "{} + {} ({}), h = {:.3e}, dt = {}",
         s.space, s.scheme, s.parameters, s.h, s.dt
     );
+    let finite = if impact.hertz.dim == 3 {
+        let f = finite_body(case.as_ref())?;
+        write_finite_body(&out.join(format!("{kind}_finite_body.csv")), &f)?;
+        Some(f)
+    } else {
+        None
+    };
     let shot = Shot {
         out,
         kind,
         fem,
         peak,
         impact: &impact,
+        finite: finite.as_ref(),
         space: &s.space,
         setting,
     };
@@ -78,6 +92,8 @@ struct Shot<'a> {
     fem: &'a Discretisation,
     peak: &'a Peak,
     impact: &'a Impact,
+    /// The discrete body's own quasi-static impact (sphere).
+    finite: Option<&'a FiniteBody>,
     /// The space, for titles.
     space: &'a str,
     /// Space, scheme, h and dt, for captions.
@@ -93,6 +109,16 @@ impl Shot<'_> {
         if let Some(h) = &hertz {
             series.push(Series::dashed("Hertz (quasi-static)", h.clone(), BLACK));
         }
+        if let Some(history) = self
+            .finite
+            .and_then(|f| f.hertz.force_history(HERTZ_SAMPLES))
+        {
+            series.push(Series::dashed(
+                "quasi-static, the body's own static law",
+                history,
+                PALETTE[1],
+            ));
+        }
         let name = format!("{kind}_force.png");
         time_plot(
             &out.join(&name),
@@ -100,10 +126,31 @@ impl Shot<'_> {
             "contact force",
             &series,
         )?;
+        let decomposition = match (self.finite, ImpactMeasures::of(rows)) {
+            (Some(f), Some(m)) => {
+                let pct = |e: [Option<f64>; 3]| {
+                    e.map(|x| x.map_or_else(|| "-".into(), |x| format!("{:+.2} %", 100.0 * x)))
+                        .join(", ")
+                };
+                format!(
+                    ". Errors of (t_c, F_max, δ_max): against Hertz {}; against Hertz for the \
+                     mesh's mass ({:.4}) {}; against the quasi-static impact of the body's own \
+                     static law δ(F) = (F/k)^(2/3) − c F/(E* R), c = {:.4} (static solves in \
+                     {kind}_finite_body.csv), {}: what Hertz's half-space misses is the finite \
+                     body, the rest is the dynamics",
+                    pct(m.errors(&impact.hertz)),
+                    f.half_space.mass,
+                    pct(m.errors(&f.half_space)),
+                    f.coefficient,
+                    pct(m.errors(&f.hertz)),
+                )
+            }
+            _ => String::new(),
+        };
         Ok(Figure {
             file: name,
             caption: format!(
-                "{kind}: total contact force against time ({setting}){}.",
+                "{kind}: total contact force against time ({setting}){}{decomposition}.",
                 if hertz.is_some() {
                     ", Hertz's quasi-static force history dashed"
                 } else {
@@ -254,4 +301,18 @@ impl Shot<'_> {
             ),
         })
     }
+}
+
+/// `<case>_finite_body.csv`: the static solves of the finite-body law, one row each: force F,
+/// approach δ of the centre of mass, Hertz's approach `(F/k)^{2/3}`, coefficient
+/// `c = (δ_Hertz − δ) E* R / F` (the caption gives the least-squares c).
+fn write_finite_body(path: &Path, f: &FiniteBody) -> Result<()> {
+    let rows = f.points.iter().map(|p| {
+        [p.force, p.approach, p.hertz, p.coefficient(&f.hertz)].map(|x| fmt_float(Some(x)))
+    });
+    write_rows(
+        path,
+        &["force", "approach", "approach_hertz", "coefficient"],
+        rows,
+    )
 }
