@@ -116,7 +116,8 @@ impl Hertz {
         0.5 * self.mass * self.speed * self.speed
     }
 
-    /// The force at approach δ ≥ 0 (sphere): `k δ^{3/2}` for the half-space; for a finite body
+    /// The force at approach δ ≥ 0 (sphere; a finite body's δ below the maximum of its law):
+    /// `k δ^{3/2}` for the half-space; for a finite body
     /// Newton on the concave, increasing `δ(F) − δ` from `k δ^{3/2}`: every iterate after the
     /// first lies below the root and increases to it.
     pub fn force(&self, approach: f64) -> f64 {
@@ -136,7 +137,7 @@ impl Hertz {
 
     /// Maximum approach δ_max (sphere only).
     pub fn max_approach(&self) -> Option<f64> {
-        if self.compliance > 0.0 {
+        if self.compliance != 0.0 {
             return self.peak_force().map(|f| self.approach(f));
         }
         (self.dim == 3).then(|| {
@@ -368,6 +369,8 @@ mod tests {
                 && soft.duration().unwrap() > half.duration().unwrap()
         );
         assert!((soft.force(soft.approach(f_soft)) - f_soft).abs() < 1e-12 * f_soft);
+        assert_eq!(soft.max_approach(), Some(soft.approach(f_soft)));
+        assert!(soft.max_approach().unwrap() > half.max_approach().unwrap());
     }
 
     /// A compliance whose approach law turns over before absorbing the kinetic energy is refused.

@@ -232,14 +232,10 @@ impl ImpactMeasures {
         let first = rows.iter().find(|r| r.force_contact > 0.0)?;
         let last = rows.iter().rev().find(|r| r.force_contact > 0.0)?;
         let dt = rows.get(1).map_or(0.0, |r| r.t - rows[0].t);
-        let approach = rows.iter().filter_map(|r| r.approach);
         Some(Self {
             duration: last.t - first.t + dt,
             peak_force: rows.iter().map(|r| r.force_contact).fold(0.0, f64::max),
-            max_approach: approach
-                .clone()
-                .next()
-                .map(|_| approach.fold(f64::NEG_INFINITY, f64::max)),
+            max_approach: rows.iter().filter_map(|r| r.approach).reduce(f64::max),
         })
     }
 
