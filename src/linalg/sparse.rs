@@ -1,0 +1,188 @@
+//! Sparse matrices (faer's compressed columns): construction from triplets, the union
+//! `a X + b Y`, their stored entries, diagonal and bandwidth.
+
+use crate::error::{Error, Result};
+use faer::sparse::{SparseColMat, Triplet};
+
+/// Sparse matrix in compressed-column form (faer).
+pub type SpMat = SparseColMat<usize, f64>;
+
+/// Accumulates `(row, col, value)` entries; duplicates are summed on [`TripletBuilder::build`].
+#[derive(Debug, Clone, Default)]
+pub struct TripletBuilder {
+    nrows: usize,
+    ncols: usize,
+    entries: Vec<Triplet<usize, usize, f64>>,
+}
+
+impl TripletBuilder {
+    /// An empty `nrows × ncols` matrix.
+    pub fn new(nrows: usize, ncols: usize) -> Self {
+        Self {
+            nrows,
+            ncols,
+            entries: Vec::new(),
+        }
+    }
+
+    /// Adds `value` at `(row, col)` (summed with previous entries there).
+    pub fn add(&mut self, row: usize, col: usize, value: f64) {
+        debug_assert!(row < self.nrows && col < self.ncols);
+        self.entries.push(Triplet::new(row, col, value));
+    }
+
+    /// Adds `scale · m` with its top-left corner at `(row0, col0)`.
+    pub fn add_scaled(&mut self, row0: usize, col0: usize, scale: f64, m: &SpMat) {
+        for (i, j, v) in triplets(m) {
+            self.add(row0 + i, col0 + j, scale * v);
+        }
+    }
+
+    /// The assembled matrix: entries bucketed by column (counting sort), then each column
+    /// sorted by row (stable: duplicates are summed in insertion order) and merged.
+    pub fn build(&self) -> Result<SpMat> {
+        let (n, m) = (self.nrows, self.ncols);
+        if let Some(t) = self.entries.iter().find(|t| t.row >= n || t.col >= m) {
+            return Err(Error::Factorisation {
+                matrix: format!("{n}x{m} assembly"),
+                reason: format!("entry ({}, {}) out of bounds", t.row, t.col),
+            });
+        }
+        let mut start = vec![0usize; m + 1];
+        for t in &self.entries {
+            start[t.col + 1] += 1;
+        }
+        for j in 0..m {
+            start[j + 1] += start[j];
+        }
+        let mut next = start.clone();
+        let mut bucket = vec![(0usize, 0.0f64); self.entries.len()];
+        for t in &self.entries {
+            bucket[next[t.col]] = (t.row, t.val);
+            next[t.col] += 1;
+        }
+        let mut col_ptr = Vec::with_capacity(m + 1);
+        let mut row_idx = Vec::with_capacity(bucket.len());
+        let mut val = Vec::with_capacity(bucket.len());
+        col_ptr.push(0);
+        for j in 0..m {
+            let col = &mut bucket[start[j]..start[j + 1]];
+            col.sort_by_key(|e| e.0);
+            for &(i, v) in col.iter() {
+                if row_idx.len() > col_ptr[j] && row_idx.last() == Some(&i) {
+                    if let Some(last) = val.last_mut() {
+                        *last += v;
+                    }
+                } else {
+                    row_idx.push(i);
+                    val.push(v);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let symbolic =
+            faer::sparse::SymbolicSparseColMat::new_checked(n, m, col_ptr, None, row_idx);
+        Ok(SpMat::new(symbolic, val))
+    }
+}
+
+/// The rows of a sparse matrix as `(column, value)` lists (short rows, e.g. contact rows).
+pub fn rows(m: &SpMat) -> Vec<Vec<(usize, f64)>> {
+    let mut rows = vec![Vec::new(); m.nrows()];
+    for (i, j, v) in triplets(m) {
+        rows[i].push((j, v));
+    }
+    rows
+}
+
+/// Stored entries `(row, col, value)` of a sparse matrix.
+pub fn triplets(m: &SpMat) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+    let m = m.as_ref();
+    (0..m.ncols()).flat_map(move |j| {
+        m.row_idx_of_col_raw(j)
+            .iter()
+            .zip(m.val_of_col(j))
+            .map(move |(&i, &v)| (i, j, v))
+    })
+}
+
+/// Compressed-column arrays `(col_ptr, row_idx, values)` of `a`, whose columns are contiguous
+/// (faer matrices built from triplets are).
+pub(super) fn csc(a: &SpMat) -> (&[usize], &[usize], &[f64]) {
+    let a = a.as_ref();
+    debug_assert!(a.symbolic().col_nnz().is_none());
+    (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val())
+}
+
+/// The diagonal of a square sparse matrix (duplicates summed).
+pub fn diagonal(a: &SpMat) -> Vec<f64> {
+    let mut d = vec![0.0; a.nrows()];
+    for (i, _, v) in triplets(a).filter(|(i, j, _)| i == j) {
+        d[i] += v;
+    }
+    d
+}
+
+/// `A = a · X + b · Y` for two sparse matrices of the same shape (union of the patterns), by a
+/// merge of their sorted columns (no triplet sort).
+pub fn lin_comb(a: f64, x: &SpMat, b: f64, y: &SpMat) -> Result<SpMat> {
+    let (n, m) = (x.nrows(), x.ncols());
+    if (y.nrows(), y.ncols()) != (n, m) {
+        return Err(Error::Factorisation {
+            matrix: format!("{n}x{m} + {}x{}", y.nrows(), y.ncols()),
+            reason: "shapes differ".into(),
+        });
+    }
+    let ((xp, xi, xv), (yp, yi, yv)) = (csc(x), csc(y));
+    let mut col_ptr = Vec::with_capacity(m + 1);
+    let mut row_idx = Vec::with_capacity(xv.len().max(yv.len()));
+    let mut val = Vec::with_capacity(row_idx.capacity());
+    col_ptr.push(0);
+    for j in 0..m {
+        let (mut p, mut q) = (xp[j], yp[j]);
+        while p < xp[j + 1] || q < yp[j + 1] {
+            let rx = if p < xp[j + 1] { xi[p] } else { usize::MAX };
+            let ry = if q < yp[j + 1] { yi[q] } else { usize::MAX };
+            let r = rx.min(ry);
+            let mut v = 0.0;
+            if rx == r {
+                v += a * xv[p];
+                p += 1;
+            }
+            if ry == r {
+                v += b * yv[q];
+                q += 1;
+            }
+            row_idx.push(r);
+            val.push(v);
+        }
+        col_ptr.push(row_idx.len());
+    }
+    let symbolic = faer::sparse::SymbolicSparseColMat::new_checked(n, m, col_ptr, None, row_idx);
+    Ok(SpMat::new(symbolic, val))
+}
+
+/// True when `a` has bandwidth at most [`NARROW_BAND`] (1D meshes).
+pub fn is_narrow_band(a: &SpMat) -> bool {
+    bandwidth(a) <= NARROW_BAND
+}
+
+/// Largest bandwidth kept in the natural order by [`Factor::cholesky`].
+pub(super) const NARROW_BAND: usize = 4;
+
+/// `max |i − j|` over the stored entries.
+pub(super) fn bandwidth(a: &SpMat) -> usize {
+    triplets(a)
+        .map(|(i, j, _)| i.abs_diff(j))
+        .max()
+        .unwrap_or(0)
+}
+
+/// Dense copy (tests and small diagnostics only).
+pub fn to_dense(a: &SpMat) -> nalgebra::DMatrix<f64> {
+    let mut d = nalgebra::DMatrix::zeros(a.nrows(), a.ncols());
+    for (i, j, v) in triplets(a) {
+        d[(i, j)] += v;
+    }
+    d
+}
