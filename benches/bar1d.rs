@@ -72,7 +72,7 @@ fn schemes(c: &mut Criterion) {
         },
     )
     .expect("valid bar");
-    for scheme in dyncontact::method::names(dyncontact::time::SCHEMES) {
+    for scheme in dyncontact::param::names(dyncontact::time::SCHEMES) {
         g.bench_function(scheme, |b| {
             b.iter(|| black_box(simulate_with(&case, "mass_redistribution", scheme, 1000)))
         });

@@ -168,7 +168,7 @@ fn list(dir: &PathBuf) -> Result<()> {
 }
 
 /// `kind: a (p=default, …), b, …` of a method registry.
-fn print_registry<T: ?Sized, I>(kind: &str, registry: &[dyncontact::method::Entry<T, I>]) {
+fn print_registry<T: ?Sized, I>(kind: &str, registry: &[dyncontact::param::Entry<T, I>]) {
     let entries: Vec<String> = registry
         .iter()
         .map(|e| {

@@ -178,7 +178,7 @@ fn sweep_writes_records_and_orders_for_every_combination() {
     let orders = std::fs::read_to_string(dir.path().join("orders.csv")).unwrap();
     // 7 schemes × 3 quick levels.
     assert_eq!(records.lines().count(), 1 + 7 * 3);
-    for scheme in dyncontact::method::names(dyncontact::time::SCHEMES) {
+    for scheme in dyncontact::param::names(dyncontact::time::SCHEMES) {
         assert!(
             orders
                 .lines()

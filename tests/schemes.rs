@@ -6,7 +6,7 @@ mod common;
 use common::{bar, observed_order, UNIT_BAR};
 use dyncontact::cases::{self, Case, Overrides, RunSpec};
 use dyncontact::exact::spring_mass::SpringMass;
-use dyncontact::method::names;
+use dyncontact::param::names;
 use dyncontact::space::SPACES;
 use dyncontact::study::run::{run, RunResult};
 use dyncontact::time::SCHEMES;

@@ -12,8 +12,8 @@ pub mod sweep;
 
 use crate::error::{positive, Error, Result};
 use crate::exact::ExactContact;
-pub use crate::method::Options;
-use crate::method::Params;
+pub use crate::param::Options;
+use crate::param::Params;
 use crate::problem::Problem;
 use crate::space::Space;
 use serde::de::DeserializeOwned;

@@ -15,7 +15,7 @@ pub mod penalty;
 pub mod weak;
 
 use crate::error::{Error, Result};
-use crate::method::{Entry, Options};
+use crate::param::{Entry, Options};
 use crate::problem::Problem;
 use nalgebra::DMatrix;
 
@@ -96,7 +96,7 @@ pub const DEFAULT_FORMULATION: &str = "nodal";
 
 /// The registry entry of the formulation called `name`.
 pub fn formulation_entry(name: &str) -> Result<&'static Entry<dyn Formulation, Options>> {
-    crate::method::find(FORMULATIONS, "contact formulation", name)
+    crate::param::find(FORMULATIONS, "contact formulation", name)
 }
 
 /// The formulation chosen by `options` (`contact`, default [`DEFAULT_FORMULATION`]), with its

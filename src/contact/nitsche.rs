@@ -30,7 +30,7 @@
 use super::{Formulation, SolveInfo, Solver};
 use crate::error::{in_range, positive, Error, Result};
 use crate::linalg::TripletBuilder;
-use crate::method::{Entry, Options, Param};
+use crate::param::{Entry, Options, Param};
 use crate::problem::{BoundaryEnergy, BoundaryPoint, NitscheRows, Problem, VertexMap};
 use nalgebra::DMatrix;
 

@@ -3,7 +3,7 @@
 //! exactly per step by the LCP solver (Khenous, Laborde, Renard 2008; DESIGN.md §1).
 
 use super::{Formulation, Solver};
-use crate::method::{Entry, Options};
+use crate::param::{Entry, Options};
 use crate::problem::Problem;
 
 /// Registry entry: `nodal` (no parameter).

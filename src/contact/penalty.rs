@@ -10,7 +10,7 @@
 
 use super::{Formulation, SolveInfo, Solver};
 use crate::error::{positive, Result};
-use crate::method::{Entry, Options, Param};
+use crate::param::{Entry, Options, Param};
 use crate::problem::Problem;
 use nalgebra::DMatrix;
 

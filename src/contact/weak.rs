@@ -17,7 +17,7 @@
 use super::{Formulation, Solver};
 use crate::error::{Error, Result};
 use crate::linalg::{self, TripletBuilder};
-use crate::method::{Entry, Options};
+use crate::param::{Entry, Options};
 use crate::problem::{Problem, VertexMap};
 
 /// Registry entry: `weak`, with `contact_multiplier` p1 (default) or p0.

@@ -11,7 +11,7 @@ use super::implicit::ContactStep;
 use super::stepper::{time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
 use crate::error::Result;
-use crate::method::Entry;
+use crate::param::Entry;
 use crate::problem::Problem;
 
 /// Registry entry: `backward_euler` (no parameter).

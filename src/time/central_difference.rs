@@ -19,7 +19,7 @@ use super::stepper::{time_step, Stepper, ThreeLevel};
 use super::{Integrator, Scheme, State, StepInfo};
 use crate::error::{Error, Result};
 use crate::linalg::{self, SpMat, TripletBuilder};
-use crate::method::Entry;
+use crate::param::Entry;
 use crate::problem::{Inertia, Problem};
 
 /// Power iterations of the CFL estimate (the Rayleigh quotient converges from below).

@@ -10,7 +10,7 @@
 use super::newmark::{Newmark, NewmarkIntegrator};
 use super::{Integrator, Scheme};
 use crate::error::{in_range, Result};
-use crate::method::{Entry, Param};
+use crate::param::{Entry, Param};
 use crate::problem::Problem;
 
 /// HHT α.

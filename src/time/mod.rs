@@ -23,7 +23,7 @@ mod stepper;
 
 use crate::contact;
 use crate::error::{Error, Result};
-use crate::method::{Entry, Params};
+use crate::param::{Entry, Params};
 use crate::problem::Problem;
 pub use implicit::{LinearSolver, LINEAR_SOLVERS};
 
@@ -107,7 +107,7 @@ pub const SCHEMES: &[Entry<dyn Scheme>] = &[
 
 /// The registry entry of the scheme called `name`.
 pub fn entry(name: &str) -> Result<&'static Entry<dyn Scheme>> {
-    crate::method::find(SCHEMES, "scheme", name)
+    crate::param::find(SCHEMES, "scheme", name)
 }
 
 /// The scheme called `name` with its parameters read from `p` and validated.

@@ -18,7 +18,7 @@ use super::stepper::{time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
 use crate::error::{in_range, Result};
 use crate::linalg;
-use crate::method::{Entry, Param};
+use crate::param::{Entry, Param};
 use crate::problem::Problem;
 
 /// Moreau–Jean θ.

@@ -16,7 +16,7 @@ use super::stepper::{initial_acceleration, time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
 use crate::error::{in_range, positive, Result};
 use crate::linalg;
-use crate::method::{Entry, Param};
+use crate::param::{Entry, Param};
 use crate::problem::Problem;
 
 /// Newmark β.

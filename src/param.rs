@@ -1,12 +1,12 @@
-//! Methods and their numerical parameters, each declared once.
+//! Methods' numerical parameters, declared once: the generic declarations every method file
+//! uses ([`Param`], the registry [`Entry`]), the values a run sets ([`Params`]) and the method
+//! choices a `[run]` table or the command line makes ([`Options`]).
 //!
-//! A method (a time scheme, a contact formulation) declares its parameters as [`Param`] constants in
-//! its own file and registers itself with one [`Entry`] line in its family's registry
-//! (`time::SCHEMES`, `contact::FORMULATIONS`). Everything else reads those declarations:
-//! the command line (`--beta`, `--nitsche-gamma`, … through [`Params`]' clap implementation), the
-//! case files (`[run]` and the `[[sweep]]` scheme entries take the same keys, see
-//! [`crate::cases::Options`]), the sweep labels ([`Params::label`]), and the `parameters` column of
-//! the records ([`Entry::describe`]).
+//! A method (space, time scheme, contact formulation) declares its parameters as [`Param`]
+//! constants in its own file and registers itself with one [`Entry`] line in its family's
+//! registry (`space::SPACES`, `time::SCHEMES`, `contact::FORMULATIONS`). This module knows no
+//! registry: what reads them all (the command-line flags, the validation of case-file keys, the
+//! sweep labels) is [`crate::methods`], above the method modules.
 
 use crate::error::{Error, Result};
 use serde::{Deserialize, Deserializer};
@@ -68,21 +68,6 @@ pub fn names<T: ?Sized, I>(registry: &[Entry<T, I>]) -> Vec<&'static str> {
     registry.iter().map(|e| e.name).collect()
 }
 
-/// Every parameter of every registered method, each once, in registry order.
-pub fn all_params() -> Vec<&'static Param> {
-    let schemes = crate::time::SCHEMES.iter().flat_map(|e| e.params.iter());
-    let contact = crate::contact::FORMULATIONS
-        .iter()
-        .flat_map(|e| e.params.iter());
-    let mut all: Vec<&'static Param> = Vec::new();
-    for p in schemes.chain(contact) {
-        if !all.iter().any(|q| q.name == p.name) {
-            all.push(p);
-        }
-    }
-    all
-}
-
 /// Parameter values set explicitly (by a case file or the command line); the others take their
 /// declared default.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -121,10 +106,9 @@ impl Params {
         self.0.extend(other.0.iter().map(|(k, v)| (k.clone(), *v)));
     }
 
-    /// Every key a registered parameter and every value finite; `table` names where they were
-    /// read (`run`, `sweep.orders`, …).
-    pub fn validate(&self, table: &str) -> Result<()> {
-        let known = all_params();
+    /// Every key one of `known` and every value finite; `table` names where they were read
+    /// (`run`, `sweep.orders`, …).
+    pub fn check_keys(&self, table: &str, known: &[&Param]) -> Result<()> {
         for (k, v) in &self.0 {
             if !known.iter().any(|p| p.name == k) {
                 let names: Vec<_> = known.iter().map(|p| p.name).collect();
@@ -139,15 +123,10 @@ impl Params {
         Ok(())
     }
 
-    /// `label=value, …` of the set values, those of `first` (a scheme's own) first, then the
-    /// others in registry order.
-    pub fn label(&self, first: &[&Param]) -> String {
-        let rest = all_params();
-        let ordered = first
-            .iter()
-            .copied()
-            .chain(rest.into_iter().filter(|p| !first.contains(p)));
-        ordered
+    /// `label=value, …` of the set values, in the order of `order`.
+    pub fn label<'a>(&self, order: impl IntoIterator<Item = &'a Param>) -> String {
+        order
+            .into_iter()
             .filter_map(|p| self.value(p).map(|v| format!("{}={v}", p.label)))
             .collect::<Vec<_>>()
             .join(", ")
@@ -214,88 +193,5 @@ impl Options {
         pick(&mut self.contact_solver, &other.contact_solver);
         pick(&mut self.linear_solver, &other.linear_solver);
         self.params.overlay(&other.params);
-    }
-
-    /// Contact formulation name (default `nodal`).
-    pub fn contact(&self) -> &str {
-        self.contact
-            .as_deref()
-            .unwrap_or(crate::contact::DEFAULT_FORMULATION)
-    }
-
-    /// LCP solver name (default `active_set`).
-    pub fn contact_solver(&self) -> &str {
-        self.contact_solver.as_deref().unwrap_or("active_set")
-    }
-
-    /// Linear solver name (default `auto`).
-    pub fn linear_solver(&self) -> &str {
-        self.linear_solver.as_deref().unwrap_or("auto")
-    }
-
-    /// `key=value, …` of what is set (sweep labels): the parameters, `scheme`'s own first, then
-    /// the contact choices.
-    pub fn label(&self, scheme: &str) -> String {
-        let own = crate::time::entry(scheme).map_or(&[][..], |e| e.params);
-        let mut parts: Vec<String> = [self.params.label(own)]
-            .into_iter()
-            .filter(|s| !s.is_empty())
-            .collect();
-        for (k, v) in [
-            ("contact", &self.contact),
-            ("contact_multiplier", &self.contact_multiplier),
-            ("contact_solver", &self.contact_solver),
-            ("linear_solver", &self.linear_solver),
-        ] {
-            if let Some(v) = v {
-                parts.push(format!("{k}={v}"));
-            }
-        }
-        parts.join(", ")
-    }
-}
-
-/// The command-line flag of a parameter: `nitsche_gamma` → `nitsche-gamma`.
-fn flag(p: &Param) -> String {
-    p.name.replace('_', "-")
-}
-
-impl clap::FromArgMatches for Params {
-    fn from_arg_matches(m: &clap::ArgMatches) -> std::result::Result<Self, clap::Error> {
-        let mut out = Self::default();
-        out.update_from_arg_matches(m)?;
-        Ok(out)
-    }
-
-    fn update_from_arg_matches(
-        &mut self,
-        m: &clap::ArgMatches,
-    ) -> std::result::Result<(), clap::Error> {
-        for p in all_params() {
-            if let Some(v) = m.get_one::<f64>(p.name) {
-                self.set(p.name, *v);
-            }
-        }
-        Ok(())
-    }
-}
-
-impl clap::Args for Params {
-    /// One `--flag VALUE` per registered parameter, with its declared help.
-    fn augment_args(cmd: clap::Command) -> clap::Command {
-        all_params().into_iter().fold(cmd, |cmd, p| {
-            cmd.arg(
-                clap::Arg::new(p.name)
-                    .long(flag(p))
-                    .value_name("VALUE")
-                    .value_parser(clap::value_parser!(f64))
-                    .allow_negative_numbers(true)
-                    .help(format!("{} (default {})", p.help, p.default)),
-            )
-        })
-    }
-
-    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
-        Self::augment_args(cmd)
     }
 }
