@@ -46,7 +46,7 @@ fn simulate_with(case: &Bar1d, space: &str, scheme: &str, steps: usize) -> f64 {
 fn full_run(c: &mut Criterion) {
     let mut g = c.benchmark_group("full_run");
     g.sample_size(10);
-    for space in dyncontact::space::SPACES {
+    for space in &dyncontact::space::names() {
         let degree = if *space == "singular_dynamic" { 2 } else { 1 };
         let case = bar(1000, degree);
         g.bench_function(*space, |b| {

@@ -8,6 +8,7 @@
 
 pub mod cases;
 pub mod contact;
+pub mod element;
 pub mod error;
 pub mod exact;
 pub mod fem;

@@ -153,7 +153,7 @@ fn list(dir: &PathBuf) -> Result<()> {
             Err(e) => say!("{}  (invalid: {e})", p.display()),
         }
     }
-    say!("spaces: {}", dyncontact::space::SPACES.join(", "));
+    say!("spaces: {}", dyncontact::space::names().join(", "));
     print_registry("schemes", dyncontact::time::SCHEMES);
     print_registry("contact formulations", dyncontact::contact::FORMULATIONS);
     say!(

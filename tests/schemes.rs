@@ -7,7 +7,7 @@ use common::{bar, observed_order, UNIT_BAR};
 use dyncontact::cases::{self, Case, Overrides, RunSpec};
 use dyncontact::exact::spring_mass::SpringMass;
 use dyncontact::param::names;
-use dyncontact::space::SPACES;
+use dyncontact::space;
 use dyncontact::study::run::{run, RunResult};
 use dyncontact::time::SCHEMES;
 use std::path::Path;
@@ -46,7 +46,7 @@ fn bar_order(space: &str, set: impl Fn(&mut RunSpec) + Copy) -> f64 {
 /// Newmark(½, ½): measured u-order 0.52 against 0.75 with mass redistribution.
 #[test]
 fn backward_euler_is_dissipative_and_converges() {
-    for space in SPACES {
+    for space in &space::names() {
         let r = bar_run(space, 40, 6.0, |s| s.scheme = "backward_euler".into()).unwrap();
         let e = energies(&r);
         let worst = e.windows(2).map(|w| w[1] - w[0]).fold(f64::MIN, f64::max);
@@ -212,7 +212,7 @@ fn central_difference_checks_its_cfl_limit() {
 /// (central difference needs a sparse mass); position-level schemes never penetrate.
 #[test]
 fn every_scheme_runs_on_every_space() {
-    for space in SPACES {
+    for space in &space::names() {
         for scheme in &names(SCHEMES) {
             let r = bar_run(space, 20, 3.0, |s| {
                 s.scheme = scheme.to_string();

@@ -6,17 +6,17 @@
 //! non-dimensional, E = ρ = L = 1).
 
 use super::{Case, FieldError, Overrides, RunSpec};
+use crate::element::quadrature::gauss_legendre_01;
+use crate::element::segment::Segment;
 use crate::error::{positive, Error, Result};
 use crate::exact::bar_impact::BarImpact;
 use crate::exact::ExactContact;
 use crate::fem::assembly::{segment_mass, segment_mixed_mass, segment_stiffness};
 use crate::fem::lagrange1d::Lagrange1d;
-use crate::fem::quadrature::gauss_legendre_01;
-use crate::fem::segment::Segment;
 use crate::linalg::TripletBuilder;
 use crate::mesh::interval::IntervalMesh;
 use crate::problem::{BoundaryPoint, Contact, ContactFace, Probe, Problem};
-use crate::space::{ElementMass, ElementMixed, MassModel, Space};
+use crate::space::{ElementMass, ElementMixed, MassModel, Space, VelocitySpace};
 use serde::Deserialize;
 
 /// `[material]`.
@@ -154,7 +154,14 @@ impl Bar1d {
                     vdofs: vec![vec![e, e + 1]],
                 })
                 .collect();
-            (mixed, n_el + 1)
+            VelocitySpace {
+                elements: mixed,
+                dim: n_el + 1,
+                // Node p·e (the vertex e) carries H_h dof e.
+                dof_of: (0..s.n_nodes())
+                    .filter_map(|i| s.dof_of_node[i].map(|_| (i % 2 == 0).then_some(i / 2)))
+                    .collect(),
+            }
         });
         MassModel {
             n_dofs: s.n_dofs,

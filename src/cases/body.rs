@@ -14,12 +14,12 @@
 
 use super::sweep::SweepSpec;
 use super::{Case, FieldError, Overrides, RunSpec};
+use crate::element::reference::{RefElement, Shape};
 use crate::error::{positive, Error, Result};
 use crate::exact::hertz::Hertz;
 use crate::exact::ExactContact;
 use crate::fem::discretisation::Discretisation;
 use crate::fem::elasticity::Lame;
-use crate::fem::reference::{RefElement, Shape};
 use crate::mesh::structured::box_mesh;
 use crate::mesh::{ContactRule, Mesh, FACING};
 use crate::problem::Problem;
@@ -379,7 +379,7 @@ impl Case for Body {
         let model = fem.mass_model();
         let inertia = space.inertia(&model)?;
         let contact = fem.contact(self.geometry.lift)?;
-        let probe = fem.probe(&contact, &inertia)?;
+        let probe = fem.probe(&contact, inertia.as_ref())?;
         let mut v0 = vec![0.0; n];
         for v in v0.iter_mut().skip(d - 1).step_by(d) {
             *v = self.geometry.velocity;

@@ -1,8 +1,8 @@
 //! Local element matrices by quadrature and their scatter into global sparse matrices.
 
+use crate::element::quadrature::gauss_legendre_01;
+use crate::element::segment::Segment;
 use crate::error::Result;
-use crate::fem::quadrature::gauss_legendre_01;
-use crate::fem::segment::Segment;
 use crate::linalg::{SpMat, TripletBuilder};
 use nalgebra::DMatrix;
 

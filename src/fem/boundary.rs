@@ -12,8 +12,9 @@
 //! - `σ_N = n·σ(u)n = σ_dd = λ div u + 2μ ∂_d u_d`, from the gradients of T's basis;
 //! - `h/E` with h the diameter of T (largest distance between its vertices).
 
-use super::elasticity::{jacobian, physical, Lame};
-use super::quadrature::gauss_legendre_01;
+use super::elasticity::Lame;
+use crate::element::geometry::{jacobian, physical};
+use crate::element::quadrature::gauss_legendre_01;
 use crate::mesh::{Face, Mesh};
 use crate::problem::BoundaryPoint;
 use nalgebra::Vector3;
@@ -162,7 +163,7 @@ pub fn contact_points(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::reference::{RefElement, Shape};
+    use crate::element::reference::{RefElement, Shape};
     use crate::mesh::{structured::box_mesh, ContactRule, FACING};
 
     fn points(mesh: &Mesh, lame: Lame, lift: f64) -> Vec<BoundaryPoint> {

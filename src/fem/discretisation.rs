@@ -18,10 +18,10 @@ use crate::fem::boundary::contact_points;
 use crate::fem::elasticity::{
     element_mass, element_stiffness, mixed_matrices, stress, von_mises, Lame,
 };
+use crate::fem::mass_model::{ElementMass, ElementMixed, MassModel, VelocitySpace};
 use crate::linalg::{SpMat, TripletBuilder};
 use crate::mesh::{ContactRule, Face, Mesh};
 use crate::problem::{Contact, ContactFace, Inertia, Probe};
-use crate::space::{ElementMass, ElementMixed, MassModel};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
@@ -165,7 +165,13 @@ impl Discretisation {
             dim: d,
             elements,
             contact_dofs,
-            velocity: (el.degree == 2).then_some((mixed, nv * d)),
+            velocity: (el.degree == 2).then(|| VelocitySpace {
+                elements: mixed,
+                dim: nv * d,
+                dof_of: (0..self.n_dofs())
+                    .map(|dof| vertex[dof / d].map(|v| v * d + dof % d))
+                    .collect(),
+            }),
         }
     }
 
@@ -310,7 +316,7 @@ impl Discretisation {
 
     /// The probe: the Γ_C vertex nearest the plane at t = 0, ties (within 1e-9 h) broken by the
     /// distance to the centre of Γ_C's bounding box, then by the lowest index.
-    pub fn probe(&self, contact: &Contact, inertia: &Inertia) -> Result<Probe> {
+    pub fn probe(&self, contact: &Contact, inertia: &dyn Inertia) -> Result<Probe> {
         let (d, x) = (self.dim(), &self.mesh.nodes);
         let verts = &self.contact_vertices;
         let centre: Vec<f64> = (0..d - 1)
@@ -336,17 +342,10 @@ impl Discretisation {
             .ok_or_else(|| Error::Unsupported("no contact vertex".into()))?;
         let node = verts[probe].0;
         let u_dof = self.dof(node, d - 1);
-        let w_dof = match inertia {
-            Inertia::Sparse { .. } => u_dof,
-            Inertia::Mixed { .. } => {
-                let (vertex, _) = self.vertex_index();
-                vertex[node].map_or(u_dof, |v| v * d + d - 1)
-            }
-        };
         Ok(Probe {
             contact: probe,
             u_dof,
-            w_dof,
+            w_dof: inertia.velocity_dof(u_dof),
         })
     }
 }
@@ -397,7 +396,7 @@ fn face_mass(x: &[[f64; 3]]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::reference::{RefElement, Shape};
+    use crate::element::reference::{RefElement, Shape};
     use crate::mesh::structured::box_mesh;
     use crate::mesh::FACING;
 

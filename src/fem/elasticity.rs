@@ -1,4 +1,4 @@
-//! Isotropic linear elasticity on the reference elements of [`super::reference`]: element stiffness
+//! Isotropic linear elasticity on the reference elements of [`crate::element::reference`]: element stiffness
 //! `K_(a,c),(b,d) = ∫ λ ∂_c φ_a ∂_d φ_b + μ ∂_d φ_a ∂_c φ_b + μ δ_cd ∇φ_a·∇φ_b` (plane strain in 2D:
 //! the 3D Lamé constants), scalar element mass `∫ ρ φ_a φ_b`, mixed mass `∫ ρ ψ_i φ_b` with the
 //! degree-1 basis ψ, and the stress `σ = λ tr ε I + 2 μ ε`. Local dof `(a, c)` has index
@@ -6,7 +6,8 @@
 //! local nodes, `x(ξ) = Σ_a x_a φ_a(ξ)` (curved P2/Q2 cells included); [`crate::mesh::Mesh::check`]
 //! has refused cells whose Jacobian vanishes or changes sign.
 
-use super::reference::RefElement;
+use crate::element::geometry::{jacobian_from, physical};
+use crate::element::reference::RefElement;
 use nalgebra::{DMatrix, Matrix3};
 
 /// Lamé constants.
@@ -31,42 +32,6 @@ impl Lame {
             mu: young / (2.0 * (1.0 + poisson)),
         }
     }
-}
-
-/// Jacobian `J = Σ_a x_a ⊗ ∇̂φ_a(ξ)` of the isoparametric map at ξ (columns: images of the
-/// reference axes; the unused block of a 2D cell is the identity).
-pub fn jacobian(el: &RefElement, x: &[[f64; 3]], xi: [f64; 3]) -> Matrix3<f64> {
-    jacobian_from(el, x, &el.eval(xi).1)
-}
-
-fn jacobian_from(el: &RefElement, x: &[[f64; 3]], g: &[[f64; 3]]) -> Matrix3<f64> {
-    let mut j = Matrix3::identity();
-    for k in 0..el.dim {
-        for r in 0..el.dim {
-            j[(r, k)] = x.iter().zip(g).map(|(xa, ga)| xa[r] * ga[k]).sum();
-        }
-    }
-    j
-}
-
-/// Values and physical gradients `J⁻ᵀ ∇̂φ` at a point, and `|det J|`.
-pub(crate) fn physical(
-    el: &RefElement,
-    x: &[[f64; 3]],
-    xi: [f64; 3],
-) -> (Vec<f64>, Vec<[f64; 3]>, f64) {
-    let (v, g) = el.eval(xi);
-    let jac = jacobian_from(el, x, &g);
-    // Checked cells have det J ≠ 0 (Mesh::check); zero gradients rather than a panic otherwise.
-    let inv_t = jac.try_inverse().unwrap_or_else(Matrix3::zeros).transpose();
-    let g = g
-        .iter()
-        .map(|gr| {
-            let p = inv_t * nalgebra::Vector3::new(gr[0], gr[1], gr[2]);
-            [p[0], p[1], p[2]]
-        })
-        .collect();
-    (v, g, jac.determinant().abs())
 }
 
 /// Element stiffness (`dim · n` square) of the cell with node coordinates `x`.

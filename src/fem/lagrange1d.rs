@@ -1,8 +1,8 @@
 //! Continuous Lagrange space P_p on a 1D interval mesh, with optional Dirichlet dofs eliminated.
 
+use crate::element::segment::Segment;
 use crate::error::Result;
 use crate::fem::assembly::assemble;
-use crate::fem::segment::Segment;
 use crate::linalg::SpMat;
 use crate::mesh::interval::IntervalMesh;
 use nalgebra::DMatrix;

@@ -1,10 +1,9 @@
-//! Finite element building blocks: quadrature, reference elements, local and global assembly.
+//! Finite element assembly on meshes of reference elements ([`crate::element`]): element
+//! kernels, local-to-global scatter, boundary quadrature and the discretisation of a body.
 
 pub mod assembly;
 pub mod boundary;
 pub mod discretisation;
 pub mod elasticity;
 pub mod lagrange1d;
-pub mod quadrature;
-pub mod reference;
-pub mod segment;
+pub mod mass_model;

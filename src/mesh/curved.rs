@@ -21,8 +21,8 @@
 
 use super::structured::box_mesh;
 use super::Mesh;
+use crate::element::reference::RefElement;
 use crate::error::{Error, Result};
-use crate::fem::reference::RefElement;
 
 /// The Möbius automorphism of the unit ball sending 0 to `b`.
 fn mobius(x: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -153,7 +153,7 @@ pub fn round_body(element: RefElement, n: usize, radius: f64, grading_ratio: f64
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::reference::Shape;
+    use crate::element::reference::Shape;
     use crate::mesh::{ContactRule, FACING};
 
     /// Every family: valid cells, the volume of the disc/ball (P1: inscribed polygon, O(h²);

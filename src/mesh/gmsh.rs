@@ -14,8 +14,8 @@
 //! Every failure names the file and the entity at fault.
 
 use super::Mesh;
+use crate::element::reference::{RefElement, Shape};
 use crate::error::{Error, Result};
-use crate::fem::reference::{RefElement, Shape};
 use mshio::ElementType;
 use std::collections::HashMap;
 use std::path::Path;

@@ -7,8 +7,8 @@ pub mod gmsh;
 pub mod interval;
 pub mod structured;
 
+use crate::element::reference::RefElement;
 use crate::error::{Error, Result};
-use crate::fem::reference::RefElement;
 use std::collections::HashMap;
 
 /// An unstructured mesh of one element family (any vertex numbering; cells with every local
@@ -152,7 +152,7 @@ impl Mesh {
             let dets: Vec<f64> = points
                 .iter()
                 .map(|(xi, _)| {
-                    crate::fem::elasticity::jacobian(&self.element, &x, *xi).determinant()
+                    crate::element::geometry::jacobian(&self.element, &x, *xi).determinant()
                 })
                 .collect();
             let big = dets.iter().fold(0.0_f64, |m, d| m.max(d.abs()));
@@ -307,7 +307,7 @@ impl Mesh {
                 let x = self.cell_nodes(c);
                 q.iter()
                     .map(|(xi, w)| {
-                        w * crate::fem::elasticity::jacobian(&self.element, &x, *xi)
+                        w * crate::element::geometry::jacobian(&self.element, &x, *xi)
                             .determinant()
                             .abs()
                     })

@@ -8,8 +8,8 @@
 //! bottom face (last coordinate 0): the boundary faces facing the plane below.
 
 use super::Mesh;
+use crate::element::reference::{RefElement, Shape};
 use crate::error::{Error, Result};
-use crate::fem::reference::{RefElement, Shape};
 
 /// The mesh of the box `size` (first `element.dim` entries used) with `cells` per direction;
 /// `h = size_0 / cells_0`.

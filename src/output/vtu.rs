@@ -10,9 +10,9 @@
 //! triangle 22, biquadratic quad 28, quadratic tetra 24, triquadratic hexahedron 29), their
 //! nodes permuted into VTK's order by reference coordinates ([`vtk_order`]).
 
+use crate::element::reference::{RefElement, Shape};
 use crate::error::{Error, Result};
 use crate::fem::discretisation::Discretisation;
-use crate::fem::reference::{RefElement, Shape};
 use std::path::{Path, PathBuf};
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataSet, UnstructuredGridPiece, Version,

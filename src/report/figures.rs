@@ -1,8 +1,9 @@
 //! The report's figures: convergence plots per case × sweep × quantity, and energy and contact
 //! stress against time per case file.
 
+use super::Figure;
 use crate::cases::sweep::HistorySpec;
-use crate::cases::CaseFile;
+use crate::cases::{Case, CaseFile};
 use crate::error::{Error, Result};
 use crate::output::plot::{loglog_plot, time_panels, time_plot, LogLog, Series, PALETTE};
 use crate::study::jobs::{RunRecord, Status};
@@ -12,15 +13,6 @@ use crate::study::trajectory::Row;
 use crate::util::{group_by, unique};
 use rayon::prelude::*;
 use std::path::Path;
-
-/// A figure of the report: file name (in the output directory) and what it shows.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Figure {
-    /// File name.
-    pub file: String,
-    /// One sentence on what it shows.
-    pub caption: String,
-}
 
 /// Plotted error quantities and their axis labels.
 const PLOTTED: [(&str, &str); 8] = [
@@ -162,12 +154,13 @@ pub fn convergence_figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figu
 /// per space, one curve per dt, the first only with `quick`: the seed paper's figures side by
 /// side), or by default the first sweep at its third level (first with `quick`) with every space
 /// for the first scheme, or every scheme when the sweep has one space. Failed runs are left out and named in the caption.
-/// Curved-body impacts get their own figures instead ([`super::impact`]).
-pub fn time_histories(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> {
-    let case = file.build(&Default::default())?;
-    if case.impact().is_some() {
-        return super::impact::impact_figures(file, out, quick);
-    }
+/// (Curved-body impacts get their own figures, [`super::impact`].)
+pub fn time_histories(
+    file: &CaseFile,
+    case: &dyn Case,
+    out: &Path,
+    quick: bool,
+) -> Result<Vec<Figure>> {
     let kind = case.kind();
     if !case.histories().is_empty() {
         let mut figures = Vec::new();

@@ -12,7 +12,7 @@
 //! - `<case>_pressure_map.png` (3D): the Γ_C faces within two contact radii, seen from the
 //!   plane, coloured by the mean pressure of their vertices at peak force.
 
-use super::figures::Figure;
+use super::Figure;
 use crate::cases::{CaseFile, Impact, Overrides};
 use crate::error::{Error, Result};
 use crate::fem::discretisation::Discretisation;

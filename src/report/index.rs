@@ -2,7 +2,7 @@
 //! shows, the observed orders per case × sweep, and the runs that did not finish. Both files are
 //! rendered from the same list of blocks.
 
-use super::figures::Figure;
+use super::Figure;
 use crate::error::{Error, Result};
 use crate::study::jobs::{RunRecord, Status};
 use crate::study::orders::{literature, Order};

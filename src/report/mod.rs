@@ -25,9 +25,18 @@ use crate::study::orders;
 use crate::study::peers::{self, Agreement};
 use crate::study::records::{read_records, write_records, write_timings};
 use crate::study::reference;
-use figures::{convergence_figures, time_histories, Figure};
+use figures::{convergence_figures, time_histories};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+
+/// A figure of the report: file name (in the output directory) and what it shows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    /// File name.
+    pub file: String,
+    /// One sentence on what it shows.
+    pub caption: String,
+}
 
 /// Report settings.
 #[derive(Debug, Clone, Copy, Default)]
@@ -74,7 +83,12 @@ pub fn report(cases_dir: &Path, out: &Path, opts: Options) -> Result<Vec<RunReco
     reference::reference_errors(&mut records);
     let mut figures = Vec::new();
     for f in &files {
-        figures.extend(time_histories(f, out, opts.quick)?);
+        let case = f.build(&Default::default())?;
+        figures.extend(if case.impact().is_some() {
+            impact::impact_figures(f, out, opts.quick)?
+        } else {
+            time_histories(f, case.as_ref(), out, opts.quick)?
+        });
     }
     let peers_dir = cases_dir
         .parent()

@@ -2,8 +2,10 @@
 //! touch Γ_C, `M_ij = Σ_{K ∩ Γ_C = ∅} ∫_K ρ φ_i φ_j`. The contact dofs are massless, but the mass of
 //! those elements is lost (1D: total mass ρ(L − h) per contact end).
 
+use super::sparse_mass::SparseMass;
 use super::{MassModel, Space};
 use crate::error::Result;
+use crate::param::Entry;
 use crate::problem::Inertia;
 use nalgebra::DMatrix;
 
@@ -11,20 +13,25 @@ use nalgebra::DMatrix;
 #[derive(Debug, Clone, Copy)]
 pub struct MassElimination;
 
+/// Registry entry: `mass_elimination` (no parameter).
+pub const ENTRY: Entry<dyn Space> = Entry {
+    name: "mass_elimination",
+    params: &[],
+    build: |_| Ok(Box::new(MassElimination)),
+};
+
 impl Space for MassElimination {
     fn name(&self) -> &'static str {
         "mass_elimination"
     }
 
-    fn inertia(&self, model: &MassModel) -> Result<Inertia> {
-        Ok(Inertia::Sparse {
-            m: model.assemble(|el, _| {
-                if model.touches_contact(el) {
-                    DMatrix::zeros(el.mass.nrows(), el.mass.ncols())
-                } else {
-                    el.mass.clone()
-                }
-            })?,
-        })
+    fn inertia(&self, model: &MassModel) -> Result<Box<dyn Inertia>> {
+        Ok(SparseMass::boxed(model.assemble(|el, _| {
+            if model.touches_contact(el) {
+                DMatrix::zeros(el.mass.nrows(), el.mass.ncols())
+            } else {
+                el.mass.clone()
+            }
+        })?))
     }
 }

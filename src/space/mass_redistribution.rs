@@ -15,8 +15,10 @@
 //! mass, first and second moment (two nodes left, three unknowns). Kept moments sum over elements,
 //! so the global `M̃` keeps them too.
 
+use super::sparse_mass::SparseMass;
 use super::{MassModel, Space};
 use crate::error::Result;
+use crate::param::Entry;
 use crate::problem::Inertia;
 use nalgebra::{DMatrix, DVector};
 
@@ -24,24 +26,29 @@ use nalgebra::{DMatrix, DVector};
 #[derive(Debug, Clone, Copy)]
 pub struct MassRedistribution;
 
+/// Registry entry: `mass_redistribution` (no parameter).
+pub const ENTRY: Entry<dyn Space> = Entry {
+    name: "mass_redistribution",
+    params: &[],
+    build: |_| Ok(Box::new(MassRedistribution)),
+};
+
 impl Space for MassRedistribution {
     fn name(&self) -> &'static str {
         "mass_redistribution"
     }
 
-    fn inertia(&self, model: &MassModel) -> Result<Inertia> {
-        Ok(Inertia::Sparse {
-            m: model.assemble(|el, comp| {
-                let massless: Vec<bool> = (0..el.x.len())
-                    .map(|a| model.is_contact(el, comp, a))
-                    .collect();
-                if massless.iter().any(|&b| b) {
-                    redistribute(&el.mass, &el.x, model.dim, &massless).0
-                } else {
-                    el.mass.clone()
-                }
-            })?,
-        })
+    fn inertia(&self, model: &MassModel) -> Result<Box<dyn Inertia>> {
+        Ok(SparseMass::boxed(model.assemble(|el, comp| {
+            let massless: Vec<bool> = (0..el.x.len())
+                .map(|a| model.is_contact(el, comp, a))
+                .collect();
+            if massless.iter().any(|&b| b) {
+                redistribute(&el.mass, &el.x, model.dim, &massless).0
+            } else {
+                el.mass.clone()
+            }
+        })?))
     }
 }
 

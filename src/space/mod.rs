@@ -1,126 +1,44 @@
-//! Space discretisations of the inertia (DESIGN.md §3). Every space turns the same element data
-//! ([`MassModel`]) into an [`Inertia`]; the stiffness is the same for all of them.
+//! Space discretisations of the inertia (DESIGN.md §3), one file each: every space turns the
+//! same element data ([`MassModel`]) into an [`Inertia`] (the trait the time schemes consume);
+//! the stiffness is the same for all of them. A sparse mass ([`sparse_mass`]) serves standard,
+//! lumped, mass redistribution and mass elimination; the singular dynamic method carries its
+//! own saddle system ([`singular_dynamic`]).
 
 pub mod lumped;
 pub mod mass_elimination;
 pub mod mass_redistribution;
 pub mod singular_dynamic;
+pub mod sparse_mass;
 pub mod standard;
 
-use crate::error::{Error, Result};
-use crate::fem::assembly::assemble;
-use crate::linalg::SpMat;
+use crate::error::Result;
+pub use crate::fem::mass_model::{ElementMass, ElementMixed, MassModel, VelocitySpace};
+use crate::param::{Entry, Params};
 use crate::problem::Inertia;
-use nalgebra::DMatrix;
 
-/// Element data for the mass: a scalar consistent mass `∫ρ φ_a φ_b` repeated on each displacement
-/// component (the vector mass is block diagonal).
-#[derive(Debug, Clone)]
-pub struct ElementMass {
-    /// Coordinates of the local nodes (unused components 0).
-    pub x: Vec<[f64; 3]>,
-    /// Scalar consistent element mass `M^K_ab = ∫_K ρ φ_a φ_b`.
-    pub mass: DMatrix<f64>,
-    /// For each displacement component, the global dof of each local node (None: eliminated).
-    pub dofs: Vec<Vec<Option<usize>>>,
-}
-
-/// Element data of the velocity space H_h (singular dynamic method).
-#[derive(Debug, Clone)]
-pub struct ElementMixed {
-    /// `C^K_ij = ∫_K ρ ψ_i ψ_j` (H_h basis).
-    pub c: DMatrix<f64>,
-    /// `B^K_ij = ∫_K ρ ψ_i φ_j` (rows H_h, columns V_h local nodes).
-    pub b: DMatrix<f64>,
-    /// For each component, the global H_h dof of each local H_h node.
-    pub vdofs: Vec<Vec<usize>>,
-}
-
-/// Everything a space needs: element masses, which dofs are contact normal dofs, and (when the
-/// displacement is of degree ≥ 2) the velocity space of the singular dynamic method.
-#[derive(Debug, Clone)]
-pub struct MassModel {
-    /// Number of free displacement dofs.
-    pub n_dofs: usize,
-    /// Spatial dimension (number of coordinates used for moments).
-    pub dim: usize,
-    /// Element data, one per element.
-    pub elements: Vec<ElementMass>,
-    /// Global dofs of the contact normal displacements (massless under mass redistribution),
-    /// sorted increasingly.
-    pub contact_dofs: Vec<usize>,
-    /// H_h data (same elements, same order) and dim H_h, when available.
-    pub velocity: Option<(Vec<ElementMixed>, usize)>,
-}
-
-impl MassModel {
-    /// Assembles `Σ_K Σ_c local(K, c)` over the elements and displacement components `c`.
-    /// The element matrices are computed in parallel (rayon), in element order.
-    pub fn assemble(
-        &self,
-        local: impl Fn(&ElementMass, usize) -> DMatrix<f64> + Sync,
-    ) -> Result<SpMat> {
-        use rayon::prelude::*;
-        let blocks: Vec<(Vec<Option<usize>>, DMatrix<f64>)> = self
-            .elements
-            .par_iter()
-            .flat_map_iter(|el| {
-                let local = &local;
-                el.dofs
-                    .iter()
-                    .enumerate()
-                    .map(move |(c, d)| (d.clone(), local(el, c)))
-            })
-            .collect();
-        assemble(
-            self.n_dofs,
-            self.n_dofs,
-            blocks.iter().map(|(d, m)| (d.clone(), d.clone(), m)),
-        )
-    }
-
-    /// True when element `el` has a contact dof on component `comp` at local node `a`.
-    pub fn is_contact(&self, el: &ElementMass, comp: usize, a: usize) -> bool {
-        el.dofs[comp][a].is_some_and(|d| self.contact_dofs.binary_search(&d).is_ok())
-    }
-
-    /// True when the element touches the contact boundary.
-    pub fn touches_contact(&self, el: &ElementMass) -> bool {
-        (0..el.dofs.len()).any(|c| (0..el.x.len()).any(|a| self.is_contact(el, c, a)))
-    }
-}
-
-/// A space discretisation of the inertia.
+/// A space discretisation of the inertia: one file each, registered in [`SPACES`].
 pub trait Space: std::fmt::Debug + Send + Sync {
     /// Name used on the CLI and in outputs.
     fn name(&self) -> &'static str;
     /// Builds the mass operator.
-    fn inertia(&self, model: &MassModel) -> Result<Inertia>;
+    fn inertia(&self, model: &MassModel) -> Result<Box<dyn Inertia>>;
 }
 
-/// Space names accepted on the CLI and in case files.
-pub const SPACES: &[&str] = &[
-    "standard",
-    "lumped",
-    "mass_redistribution",
-    "mass_elimination",
-    "singular_dynamic",
+/// The spaces, one registry line each.
+pub const SPACES: &[Entry<dyn Space>] = &[
+    standard::ENTRY,
+    lumped::ENTRY,
+    mass_redistribution::ENTRY,
+    mass_elimination::ENTRY,
+    singular_dynamic::ENTRY,
 ];
+
+/// The names of the spaces, in registry order.
+pub fn names() -> Vec<&'static str> {
+    crate::param::names(SPACES)
+}
 
 /// The space called `name`.
 pub fn by_name(name: &str) -> Result<Box<dyn Space>> {
-    Ok(match name {
-        "standard" => Box::new(standard::Standard),
-        "lumped" => Box::new(lumped::Lumped),
-        "mass_redistribution" => Box::new(mass_redistribution::MassRedistribution),
-        "mass_elimination" => Box::new(mass_elimination::MassElimination),
-        "singular_dynamic" => Box::new(singular_dynamic::SingularDynamic),
-        _ => {
-            return Err(Error::UnknownName {
-                kind: "space",
-                name: name.to_string(),
-                known: SPACES.join(", "),
-            })
-        }
-    })
+    (crate::param::find(SPACES, "space", name)?.build)(&Params::default())
 }

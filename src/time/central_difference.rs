@@ -20,7 +20,7 @@ use super::{Integrator, Scheme, State, StepInfo};
 use crate::error::{Error, Result};
 use crate::linalg::{self, SpMat, TripletBuilder};
 use crate::param::Entry;
-use crate::problem::{Inertia, Problem};
+use crate::problem::Problem;
 
 /// Power iterations of the CFL estimate (the Rayleigh quotient converges from below).
 pub const CFL_ITERATIONS: usize = 300;
@@ -61,14 +61,14 @@ impl Scheme for CentralDifference {
             linear: LinearSolver::Direct,
             ..contact
         };
-        let Inertia::Sparse { m } = &problem.inertia else {
+        let Some(m) = problem.inertia.sparse() else {
             return Err(Error::Unsupported(
                 "central_difference needs a sparse mass matrix (standard, lumped, \
                  mass_redistribution or mass_elimination), not singular_dynamic"
                     .into(),
             ));
         };
-        let massless = massless_dofs(m);
+        let massless = problem.inertia.massless();
         check_contact_dofs(problem, &massless)?;
         let k_ss = restrict(&problem.k, &massless)?;
         let mut system =
@@ -97,17 +97,6 @@ impl Scheme for CentralDifference {
             s,
         }))
     }
-}
-
-/// Dofs whose row of M is zero.
-fn massless_dofs(m: &SpMat) -> Vec<bool> {
-    let mut massless = vec![true; m.nrows()];
-    for (i, _, v) in linalg::triplets(m) {
-        if v != 0.0 {
-            massless[i] = false;
-        }
-    }
-    massless
 }
 
 /// Contact dofs must be all massive or all massless (otherwise λ couples the two stages).

@@ -77,7 +77,7 @@ pub const AUTO_CG_DOFS: usize = 50_000;
 /// Measured (README, Speed): block2d Q1 224² 19 against 42 ms per step, block3d Q1 32³ 41 ms
 /// against 0.56 s (and 65 s of prepare).
 pub fn cg_pays(problem: &Problem, k: &SpMat) -> bool {
-    matches!(problem.inertia, crate::problem::Inertia::Sparse { .. })
+    problem.inertia.sparse().is_some()
         && problem.n() >= AUTO_CG_DOFS
         && !linalg::is_narrow_band(k)
         && nodal_points(problem).is_ok()
@@ -97,10 +97,7 @@ fn check_stiffness_resolved(
             .iter()
             .fold(0.0_f64, |m, v| m.max(v.abs()))
     };
-    let mass = match &problem.inertia {
-        crate::problem::Inertia::Sparse { m } => max_diag(m),
-        crate::problem::Inertia::Mixed { c, .. } => max_diag(c),
-    };
+    let mass = max_diag(problem.inertia.kinetic());
     let k_max = max_diag(k);
     let (stiff, mass) = (k_coef.abs() * k_max, m_coef.abs() * mass);
     if stiff > 0.0 && stiff >= f64::EPSILON * mass || k_max == 0.0 {
@@ -217,7 +214,7 @@ impl ContactStep {
 
 /// Constant step operator, factored once, with its contact coupling.
 pub struct DirectStep {
-    op: StepOperator,
+    op: Box<dyn StepOperator>,
     solver: Box<dyn Solver>,
     /// `A⁻¹ B_Nᵀ`, when small enough to store.
     z: Option<Coupling>,

@@ -27,7 +27,7 @@
 use crate::contact::SolveInfo;
 use crate::error::{Error, Result};
 use crate::linalg::{self, Pcg, SpMat};
-use crate::problem::{Inertia, Problem};
+use crate::problem::Problem;
 
 /// Relative residual at which CG stops. 1e-8 was measured to let the energy drift of block3d
 /// 32³ (mass redistribution, Newmark ½, ½, Δt = 10⁻³, T = 1) grow from 7.3e-6 to 7.0e-4: the
@@ -64,7 +64,7 @@ impl IterativeStep {
     /// Assembles `m M + k K`; `c` is the factor of `B_Nᵀ λ` in the step equation. Errors (naming
     /// why) when the mass is not a sparse matrix or `B_N` is not nodal along axes.
     pub fn new(problem: &Problem, k: &SpMat, (m_coef, k_coef): (f64, f64), c: f64) -> Result<Self> {
-        let Inertia::Sparse { m } = &problem.inertia else {
+        let Some(m) = problem.inertia.sparse() else {
             return Err(Error::Unsupported(
                 "linear solver cg: the singular dynamic saddle system is not SPD (use direct)"
                     .into(),

@@ -1,5 +1,5 @@
 //! Reference Lagrange elements in 2D and 3D (the geometry is isoparametric: see
-//! [`super::elasticity::jacobian`]):
+//! [`super::geometry::jacobian`]):
 //! - tensor elements Q1/Q2 on [0, 1]^d, local nodes in lexicographic order (x fastest) on the
 //!   (p + 1)^d grid of equispaced points;
 //! - simplices P1/P2 (triangles, tetrahedra) on {ξ ≥ 0, Σ ξ_k ≤ 1}: the vertices 0 and e_k, then

@@ -1,0 +1,97 @@
+//! The element data every space builds its inertia from ([`crate::space`]): element masses,
+//! the contact normal dofs and, for degree-2 displacements, the velocity space H_h of the
+//! singular dynamic method. Produced by a discretisation ([`super::discretisation`]).
+
+use crate::error::Result;
+use crate::fem::assembly::assemble;
+use crate::linalg::SpMat;
+use nalgebra::DMatrix;
+
+/// Element data for the mass: a scalar consistent mass `∫ρ φ_a φ_b` repeated on each displacement
+/// component (the vector mass is block diagonal).
+#[derive(Debug, Clone)]
+pub struct ElementMass {
+    /// Coordinates of the local nodes (unused components 0).
+    pub x: Vec<[f64; 3]>,
+    /// Scalar consistent element mass `M^K_ab = ∫_K ρ φ_a φ_b`.
+    pub mass: DMatrix<f64>,
+    /// For each displacement component, the global dof of each local node (None: eliminated).
+    pub dofs: Vec<Vec<Option<usize>>>,
+}
+
+/// Element data of the velocity space H_h (singular dynamic method).
+#[derive(Debug, Clone)]
+pub struct ElementMixed {
+    /// `C^K_ij = ∫_K ρ ψ_i ψ_j` (H_h basis).
+    pub c: DMatrix<f64>,
+    /// `B^K_ij = ∫_K ρ ψ_i φ_j` (rows H_h, columns V_h local nodes).
+    pub b: DMatrix<f64>,
+    /// For each component, the global H_h dof of each local H_h node.
+    pub vdofs: Vec<Vec<usize>>,
+}
+
+/// The velocity space H_h (degree 1 on the same mesh) of the singular dynamic method.
+#[derive(Debug, Clone)]
+pub struct VelocitySpace {
+    /// Element data, one per element of the [`MassModel`], same order.
+    pub elements: Vec<ElementMixed>,
+    /// dim H_h.
+    pub dim: usize,
+    /// The H_h dof at the node of each displacement dof, when that node is a vertex.
+    pub dof_of: Vec<Option<usize>>,
+}
+
+/// Everything a space needs: element masses, which dofs are contact normal dofs, and (when the
+/// displacement is of degree ≥ 2) the velocity space of the singular dynamic method.
+#[derive(Debug, Clone)]
+pub struct MassModel {
+    /// Number of free displacement dofs.
+    pub n_dofs: usize,
+    /// Spatial dimension (number of coordinates used for moments).
+    pub dim: usize,
+    /// Element data, one per element.
+    pub elements: Vec<ElementMass>,
+    /// Global dofs of the contact normal displacements (massless under mass redistribution),
+    /// sorted increasingly.
+    pub contact_dofs: Vec<usize>,
+    /// The velocity space H_h of the singular dynamic method, when the displacement's degree
+    /// allows one.
+    pub velocity: Option<VelocitySpace>,
+}
+
+impl MassModel {
+    /// Assembles `Σ_K Σ_c local(K, c)` over the elements and displacement components `c`.
+    /// The element matrices are computed in parallel (rayon), in element order.
+    pub fn assemble(
+        &self,
+        local: impl Fn(&ElementMass, usize) -> DMatrix<f64> + Sync,
+    ) -> Result<SpMat> {
+        use rayon::prelude::*;
+        let blocks: Vec<(Vec<Option<usize>>, DMatrix<f64>)> = self
+            .elements
+            .par_iter()
+            .flat_map_iter(|el| {
+                let local = &local;
+                el.dofs
+                    .iter()
+                    .enumerate()
+                    .map(move |(c, d)| (d.clone(), local(el, c)))
+            })
+            .collect();
+        assemble(
+            self.n_dofs,
+            self.n_dofs,
+            blocks.iter().map(|(d, m)| (d.clone(), d.clone(), m)),
+        )
+    }
+
+    /// True when element `el` has a contact dof on component `comp` at local node `a`.
+    pub fn is_contact(&self, el: &ElementMass, comp: usize, a: usize) -> bool {
+        el.dofs[comp][a].is_some_and(|d| self.contact_dofs.binary_search(&d).is_ok())
+    }
+
+    /// True when the element touches the contact boundary.
+    pub fn touches_contact(&self, el: &ElementMass) -> bool {
+        (0..el.dofs.len()).any(|c| (0..el.x.len()).any(|a| self.is_contact(el, c, a)))
+    }
+}

@@ -1,0 +1,174 @@
+//! The contact rows of the semi-discrete problem: `g = g₀ − B_N U` at the contact points, their
+//! tributary areas (`σ_N = −λ/area`), the faces of Γ_C and its boundary quadrature.
+
+use crate::linalg::{self, SpMat};
+use std::borrow::Cow;
+
+/// Contact points: `g = g₀ − B_N U`, tributary areas for the stress `σ_N = −λ/area`.
+///
+/// A case builds the nodal rows (one per vertex of Γ_C) and the faces of Γ_C; a contact
+/// formulation ([`crate::contact::Formulation`]) may replace the rows (weak multipliers).
+#[derive(Debug, Clone)]
+pub struct Contact {
+    /// `B_N` (n_c × n): normal displacement (outward normal) at each contact point.
+    pub b_n: SpMat,
+    /// Initial gaps g₀.
+    pub g0: Vec<f64>,
+    /// Tributary length/area of each contact point (1 for a bar of unit section or a point mass).
+    pub area: Vec<f64>,
+    /// The faces of Γ_C on the vertex rows (a point for a 1D or 0D case).
+    pub faces: Vec<ContactFace>,
+    /// When the rows are not the vertices of Γ_C (P0 multipliers): how their forces spread to
+    /// the vertices; None when row i is vertex i.
+    pub vertices: Option<VertexMap>,
+    /// Quadrature points of Γ_C for boundary integrals, when the case provides them (Nitsche).
+    pub quadrature: Option<Vec<BoundaryPoint>>,
+    /// Set by the Nitsche formulation: force rows and compliances differ from the gap rows.
+    pub nitsche: Option<NitscheRows>,
+}
+
+/// A quadrature point `x_q` of Γ_C for the boundary integrals of Nitsche's method
+/// ([`crate::contact::nitsche`]): `∫_{Γ_C} f ≈ Σ_q w_q f(x_q)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoundaryPoint {
+    /// `w_q`: the quadrature weight times the face's measure element at x_q.
+    pub weight: f64,
+    /// Initial gap `g₀(x_q)`: signed distance to the plane.
+    pub g0: f64,
+    /// Row `U ↦ u_N(x_q)`, the displacement along the plane's outward normal (as `B_N`).
+    pub u_n: Vec<(usize, f64)>,
+    /// Row `U ↦ σ_N(U)(x_q) = n·σ(U)n`, the stress of the cell x_q lies in.
+    pub sigma_n: Vec<(usize, f64)>,
+    /// Local mesh size over Young's modulus (Nitsche's `γ = h / (γ₀ E)`).
+    pub h_over_e: f64,
+    /// The vertex rows of its face with their degree-1 hat functions at x_q (shares summing to 1).
+    pub vertices: Vec<(usize, f64)>,
+}
+
+/// The Nitsche form of the contact rows ([`crate::contact::nitsche`]): with the gap rows
+/// `B_N − γ S`, the force is `Qᵀ λ` (`Q = B_N − θ γ S`) and `λ_i = (w_i/γ_i) [−g_i]₊`, i.e. the
+/// LCP with matrix `D + diag(compliance)`.
+#[derive(Debug, Clone)]
+pub struct NitscheRows {
+    /// Q (n_c × n).
+    pub force: SpMat,
+    /// `γ_i / w_i`.
+    pub compliance: Vec<f64>,
+    /// The boundary part of the energy, per point.
+    pub energy: Vec<BoundaryEnergy>,
+    /// The rows `U ↦ u_N(x_i)` of the physical gap `g₀_i − u_N(x_i)`.
+    pub normal: Vec<Vec<(usize, f64)>>,
+}
+
+/// One point's boundary energy `a (S_i U)² + b [(B_N − γS)_i U − g₀_i]₊²`.
+#[derive(Debug, Clone)]
+pub struct BoundaryEnergy {
+    /// Row `S_i`.
+    pub s: Vec<(usize, f64)>,
+    /// Row `(B_N − γ S)_i`.
+    pub r: Vec<(usize, f64)>,
+    /// g₀_i.
+    pub g0: f64,
+    /// Coefficient of `(S_i U)²`.
+    pub a: f64,
+    /// Coefficient of the positive part squared.
+    pub b: f64,
+}
+
+impl BoundaryEnergy {
+    /// Its value at U.
+    pub fn eval(&self, u: &[f64]) -> f64 {
+        let dot = |row: &[(usize, f64)]| row.iter().map(|&(j, v)| v * u[j]).sum::<f64>();
+        let p = (dot(&self.r) - self.g0).max(0.0);
+        self.a * dot(&self.s).powi(2) + self.b * p * p
+    }
+}
+
+/// A face of Γ_C in terms of the vertex rows it joins: `mass[a·k + b] = ∫_F ψ_a ψ_b` of the
+/// degree-1 hat functions of its k vertices (a point: k = 1, `[1]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactFace {
+    /// Vertex rows of the face.
+    pub rows: Vec<usize>,
+    /// Its P1 mass matrix, row-major.
+    pub mass: Vec<f64>,
+}
+
+impl ContactFace {
+    /// A point of Γ_C (1D end point, point mass): `∫ψ ψ = 1`.
+    pub fn point(row: usize) -> Self {
+        Self {
+            rows: vec![row],
+            mass: vec![1.0],
+        }
+    }
+}
+
+/// How contact rows that are not vertices spread to the vertices of Γ_C.
+#[derive(Debug, Clone)]
+pub struct VertexMap {
+    /// Per row, `(vertex, share)` with shares summing to 1.
+    pub shares: Vec<Vec<(usize, f64)>>,
+    /// The vertices' tributary areas.
+    pub area: Vec<f64>,
+}
+
+impl Contact {
+    /// The rows whose transpose applies the contact force (`−Qᵀ λ`): B_N, or Nitsche's Q.
+    pub fn force_rows(&self) -> &SpMat {
+        self.nitsche.as_ref().map_or(&self.b_n, |n| &n.force)
+    }
+
+    /// The contact forces per vertex of Γ_C and the vertices' areas (λ and `area` themselves when
+    /// the rows are the vertices).
+    pub fn vertex_forces<'a>(&'a self, lambda: &'a [f64]) -> (Cow<'a, [f64]>, &'a [f64]) {
+        match &self.vertices {
+            None => (Cow::Borrowed(lambda), &self.area),
+            Some(map) => {
+                let mut f = vec![0.0; map.area.len()];
+                for (l, row) in lambda.iter().zip(&map.shares) {
+                    for &(v, w) in row {
+                        f[v] += w * l;
+                    }
+                }
+                (Cow::Owned(f), &map.area)
+            }
+        }
+    }
+}
+
+impl Contact {
+    /// Number of contact points n_c.
+    pub fn len(&self) -> usize {
+        self.g0.len()
+    }
+
+    /// True when there is no contact point.
+    pub fn is_empty(&self) -> bool {
+        self.g0.is_empty()
+    }
+
+    /// Gaps `g = g₀ − B_N U`, written to `out`.
+    pub fn gap(&self, u: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(&self.g0);
+        linalg::mul_add(out, &self.b_n, u, -1.0);
+    }
+
+    /// The row of the physical gap `g_i = g₀_i − Σ v u_dof` at contact point `i`: row `i` of
+    /// `B_N`, or for Nitsche (whose `B_N` rows are the law's `u_N − γ σ_N`) the row of `u_N`.
+    pub fn gap_row(&self, i: usize) -> Vec<(usize, f64)> {
+        match &self.nitsche {
+            Some(n) => n.normal[i].clone(),
+            None => self.row(i),
+        }
+    }
+
+    /// Row `i` of `B_N` as `(dof, value)` pairs (a pass over B_N: extract once, then
+    /// `g_i = g₀_i − Σ v u_dof` costs the row's length).
+    pub fn row(&self, i: usize) -> Vec<(usize, f64)> {
+        linalg::triplets(&self.b_n)
+            .filter(|&(r, _, _)| r == i)
+            .map(|(_, j, v)| (j, v))
+            .collect()
+    }
+}
