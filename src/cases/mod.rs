@@ -155,7 +155,7 @@ impl RunSpec {
         self.options.params.validate("run")?;
         crate::space::by_name(&self.space)?;
         crate::time::by_name(&self.scheme, self.params())?;
-        crate::contact::formulation(&self.options)?;
+        let formulation = crate::contact::formulation(&self.options)?;
         if let (Some(m), false) = (
             &self.options.contact_multiplier,
             self.options.contact() == "weak",
@@ -166,13 +166,16 @@ impl RunSpec {
                 "applies to contact = \"weak\" only",
             ));
         }
-        // Nitsche solves its own semismooth Newton (an active set) per step: another LCP solver
-        // would be silently ignored.
-        if self.options.contact() == "nitsche" && self.options.contact_solver() != "active_set" {
+        // A formulation that solves its own law per step (Nitsche's semismooth Newton) would
+        // silently ignore another LCP solver.
+        if !formulation.takes_solver() && self.options.contact_solver() != "active_set" {
             return Err(Error::invalid(
                 "run.contact_solver",
                 self.options.contact_solver(),
-                "contact = \"nitsche\" solves its own semismooth Newton per step",
+                &format!(
+                    "contact = \"{}\" solves its own law per step",
+                    formulation.name()
+                ),
             ));
         }
         crate::contact::by_name(self.options.contact_solver(), 0)?;

@@ -63,8 +63,24 @@ pub fn by_name(name: &str, n_c: usize) -> Result<Box<dyn Solver>> {
     }
 }
 
+/// How a time scheme imposes the contact law in its step: what a formulation may need to know
+/// to refuse a scheme (declared by each scheme, `time::Scheme::enforcement`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Enforcement {
+    /// An implicit step with Signorini's law on the gap at the new time level (Newmark, HHT,
+    /// backward Euler).
+    Position,
+    /// An implicit step with an impact law: on a combination of positions or on velocities
+    /// (Paoli–Schatzman, Moreau–Jean).
+    Impact,
+    /// An explicit step: the law on the next position through an explicit multiplier (central
+    /// difference).
+    Explicit,
+}
+
 /// A contact formulation: how the Signorini condition enters the semi-discrete problem and
-/// which law the per-step problem on the contact rows obeys.
+/// which law the per-step problem on the contact rows obeys. One file each, registered in
+/// [`FORMULATIONS`].
 pub trait Formulation: Send + Sync + std::fmt::Debug {
     /// Name on the command line, in case files and in records.
     fn name(&self) -> &'static str;
@@ -72,17 +88,23 @@ pub trait Formulation: Send + Sync + std::fmt::Debug {
     fn label(&self) -> String {
         self.name().to_string()
     }
-    /// The per-step law on the contact rows of `problem` (after [`Formulation::contact`]), given
-    /// the LCP solver chosen by `--contact-solver`.
-    fn law(&self, solver: Box<dyn Solver>, problem: &Problem) -> Box<dyn Solver>;
-    /// Refuses a time scheme this formulation does not run with.
-    fn check_scheme(&self, _scheme: &str) -> Result<()> {
+    /// Turns the nodal contact rows a case builds (one per vertex of Γ_C) into this
+    /// formulation's (rows, force rows, stored energy, probe) and returns the per-step law on
+    /// them, given the name of the LCP solver chosen by `--contact-solver` ([`by_name`]).
+    fn setup(&self, problem: &mut Problem, solver: &str) -> Result<Box<dyn Solver>>;
+    /// Refuses a time scheme (`scheme`, enforcing the law as `enforcement`) this formulation does
+    /// not run with.
+    fn check_scheme(&self, _scheme: &str, _enforcement: Enforcement) -> Result<()> {
         Ok(())
     }
-    /// Turns the nodal contact rows a case builds (one per vertex of Γ_C) into this
-    /// formulation's (the default keeps them).
-    fn contact(&self, _problem: &mut Problem) -> Result<()> {
-        Ok(())
+    /// Whether `--contact-solver` chooses the solver of its per-step law (false: the
+    /// formulation solves its own law).
+    fn takes_solver(&self) -> bool {
+        true
+    }
+    /// A failure of the run's setup explained in the formulation's terms (default: as is).
+    fn explain(&self, error: Error) -> Error {
+        error
     }
 }
 

@@ -27,11 +27,11 @@
 //! explicit central difference would need a stability restriction depending on γ₀: they are
 //! refused. Cases: bar1d and every meshed 2D/3D body (not the spring–mass, which has no stress).
 
-use super::{Formulation, SolveInfo, Solver};
+use super::{Enforcement, Formulation, SolveInfo, Solver};
 use crate::error::{in_range, positive, Error, Result};
 use crate::linalg::TripletBuilder;
 use crate::param::{Entry, Options, Param};
-use crate::problem::{BoundaryEnergy, BoundaryPoint, NitscheRows, Problem, VertexMap};
+use crate::problem::{BoundaryPoint, ContactEnergy, Problem, VertexMap};
 use nalgebra::DMatrix;
 
 /// Nitsche's parameter γ₀ (γ = h / (γ₀ E)).
@@ -60,9 +60,6 @@ pub const ENTRY: Entry<dyn Formulation, Options> = Entry {
         )?))
     },
 };
-
-/// Schemes Nitsche's contact runs with.
-pub const SCHEMES: &[&str] = &["newmark", "hht", "backward_euler"];
 
 /// Newton iterations allowed per step.
 pub const MAX_ITERATIONS: usize = 100;
@@ -99,29 +96,40 @@ impl Formulation for Nitsche {
         "nitsche"
     }
 
-    fn check_scheme(&self, scheme: &str) -> Result<()> {
-        if SCHEMES.contains(&scheme) {
+    fn check_scheme(&self, scheme: &str, enforcement: Enforcement) -> Result<()> {
+        if enforcement == Enforcement::Position {
             return Ok(());
         }
         Err(Error::Unsupported(format!(
-            "nitsche contact runs with {} only, not {scheme} (an impact law or an explicit step \
-             has no place for Nitsche's boundary term)",
-            SCHEMES.join(", ")
+            "nitsche contact runs with the implicit schemes whose law is Signorini's on the new \
+             position only, not {scheme} (an impact law or an explicit step has no place for \
+             Nitsche's boundary term)"
         )))
     }
 
-    fn law(&self, _solver: Box<dyn Solver>, problem: &Problem) -> Box<dyn Solver> {
-        let compliance = problem
-            .contact
-            .nitsche
-            .as_ref()
-            .map_or_else(Vec::new, |n| n.compliance.clone());
-        Box::new(NitscheLaw { compliance })
+    fn takes_solver(&self) -> bool {
+        false
+    }
+
+    /// A failed factorisation: its term `−θ ∫ γ σ_n(u) σ_n(v)` (θ > 0) makes the stiffness
+    /// indefinite when γ₀ is too small.
+    fn explain(&self, error: Error) -> Error {
+        match error {
+            Error::Factorisation { matrix, reason } => Error::Factorisation {
+                matrix,
+                reason: format!(
+                    "{reason}; with nitsche contact and θ > 0 the term −θ ∫ γ σ_n(u) σ_n(v) makes \
+                     the stiffness indefinite when γ₀ is too small: increase run.nitsche_gamma"
+                ),
+            },
+            e => e,
+        }
     }
 
     /// Replaces the vertex rows by one row per quadrature point of Γ_C (see the module
-    /// documentation); the probe becomes the point nearest the probe vertex.
-    fn contact(&self, problem: &mut Problem) -> Result<()> {
+    /// documentation); the probe becomes the point nearest the probe vertex. The per-step law is
+    /// [`NitscheLaw`] (the LCP solver chosen is not used).
+    fn setup(&self, problem: &mut Problem, _solver: &str) -> Result<Box<dyn Solver>> {
         let points = problem.contact.quadrature.take().ok_or_else(|| {
             Error::Unsupported(
                 "nitsche contact needs σ_N on Γ_C, which this case does not provide (bar1d and \
@@ -150,7 +158,7 @@ impl Formulation for Nitsche {
                 }
             }
             compliance.push(gamma / w);
-            energy.push(BoundaryEnergy {
+            energy.push(ContactEnergy {
                 s: p.sigma_n.clone(),
                 r,
                 g0: p.g0,
@@ -168,13 +176,10 @@ impl Formulation for Nitsche {
             area: std::mem::take(&mut contact.area),
         });
         contact.area = points.iter().map(|p| p.weight).collect();
-        contact.nitsche = Some(NitscheRows {
-            force: force.build()?,
-            compliance,
-            energy,
-            normal: points.into_iter().map(|p| p.u_n).collect(),
-        });
-        Ok(())
+        contact.force = Some(force.build()?);
+        contact.energy = energy;
+        contact.normal = Some(points.into_iter().map(|p| p.u_n).collect());
+        Ok(Box::new(NitscheLaw { compliance }))
     }
 }
 

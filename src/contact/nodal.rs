@@ -3,6 +3,7 @@
 //! exactly per step by the LCP solver (Khenous, Laborde, Renard 2008; DESIGN.md §1).
 
 use super::{Formulation, Solver};
+use crate::error::Result;
 use crate::param::{Entry, Options};
 use crate::problem::Problem;
 
@@ -22,7 +23,7 @@ impl Formulation for Nodal {
         "nodal"
     }
 
-    fn law(&self, solver: Box<dyn Solver>, _problem: &Problem) -> Box<dyn Solver> {
-        solver
+    fn setup(&self, problem: &mut Problem, solver: &str) -> Result<Box<dyn Solver>> {
+        super::by_name(solver, problem.contact.len())
     }
 }

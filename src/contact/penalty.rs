@@ -49,8 +49,9 @@ impl Formulation for PenaltyContact {
         "penalty"
     }
 
-    fn law(&self, solver: Box<dyn Solver>, _problem: &Problem) -> Box<dyn Solver> {
-        Box::new(Penalty::new(self.ratio, solver))
+    fn setup(&self, problem: &mut Problem, solver: &str) -> Result<Box<dyn Solver>> {
+        let exact = super::by_name(solver, problem.contact.len())?;
+        Ok(Box::new(Penalty::new(self.ratio, exact)))
     }
 }
 

@@ -127,13 +127,10 @@ impl Formulation for Weak {
         }
     }
 
-    fn law(&self, solver: Box<dyn Solver>, _problem: &Problem) -> Box<dyn Solver> {
-        solver
-    }
-
     /// Replaces the nodal rows by `S B_N`, `S g₀`, measures `a_i`; with P0 the probe becomes the
-    /// face of lowest initial gap among those containing the probe vertex.
-    fn contact(&self, problem: &mut Problem) -> Result<()> {
+    /// face of lowest initial gap among those containing the probe vertex. The law is
+    /// Signorini's on the new rows.
+    fn setup(&self, problem: &mut Problem, solver: &str) -> Result<Box<dyn Solver>> {
         let (rows, measure) = self.rows(problem);
         let n_c = problem.contact.len();
         if self.multiplier == Multiplier::P0 && rows.len() > n_c {
@@ -172,6 +169,6 @@ impl Formulation for Weak {
         contact.b_n = b.build()?;
         contact.g0 = g0;
         contact.area = measure;
-        Ok(())
+        super::by_name(solver, contact.len())
     }
 }

@@ -248,7 +248,9 @@ impl Discretisation {
                 lift,
                 &row,
             )),
-            nitsche: None,
+            force: None,
+            normal: None,
+            energy: Vec::new(),
         })
     }
 

@@ -21,14 +21,21 @@ pub struct Contact {
     /// When the rows are not the vertices of Γ_C (P0 multipliers): how their forces spread to
     /// the vertices; None when row i is vertex i.
     pub vertices: Option<VertexMap>,
-    /// Quadrature points of Γ_C for boundary integrals, when the case provides them (Nitsche).
+    /// Quadrature points of Γ_C for boundary integrals, when the case provides them.
     pub quadrature: Option<Vec<BoundaryPoint>>,
-    /// Set by the Nitsche formulation: force rows and compliances differ from the gap rows.
-    pub nitsche: Option<NitscheRows>,
+    /// The rows whose transpose applies the contact force (`−Qᵀ λ`) when they are not `B_N`
+    /// (Nitsche's `Q`); the Delassus operator `c B_N A⁻¹ Qᵀ` is then not symmetric.
+    pub force: Option<SpMat>,
+    /// The rows `U ↦ u_N(x_i)` of the physical gap `g₀_i − u_N(x_i)` when the rows of `B_N` are
+    /// not (Nitsche's law rows `u_N − γ σ_N`).
+    pub normal: Option<Vec<Vec<(usize, f64)>>>,
+    /// Energy stored in the contact rows, part of the conserved energy (Nitsche's boundary
+    /// energy).
+    pub energy: Vec<ContactEnergy>,
 }
 
-/// A quadrature point `x_q` of Γ_C for the boundary integrals of Nitsche's method
-/// ([`crate::contact::nitsche`]): `∫_{Γ_C} f ≈ Σ_q w_q f(x_q)`.
+/// A quadrature point `x_q` of Γ_C for boundary integrals (Nitsche's method,
+/// [`crate::contact::nitsche`]): `∫_{Γ_C} f ≈ Σ_q w_q f(x_q)`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BoundaryPoint {
     /// `w_q`: the quadrature weight times the face's measure element at x_q.
@@ -45,27 +52,13 @@ pub struct BoundaryPoint {
     pub vertices: Vec<(usize, f64)>,
 }
 
-/// The Nitsche form of the contact rows ([`crate::contact::nitsche`]): with the gap rows
-/// `B_N − γ S`, the force is `Qᵀ λ` (`Q = B_N − θ γ S`) and `λ_i = (w_i/γ_i) [−g_i]₊`, i.e. the
-/// LCP with matrix `D + diag(compliance)`.
+/// One contact point's stored energy `a (s · U)² + b [r · U − g₀]₊²` (Nitsche's boundary term:
+/// `s = S_i`, `r = (B_N − γS)_i`).
 #[derive(Debug, Clone)]
-pub struct NitscheRows {
-    /// Q (n_c × n).
-    pub force: SpMat,
-    /// `γ_i / w_i`.
-    pub compliance: Vec<f64>,
-    /// The boundary part of the energy, per point.
-    pub energy: Vec<BoundaryEnergy>,
-    /// The rows `U ↦ u_N(x_i)` of the physical gap `g₀_i − u_N(x_i)`.
-    pub normal: Vec<Vec<(usize, f64)>>,
-}
-
-/// One point's boundary energy `a (S_i U)² + b [(B_N − γS)_i U − g₀_i]₊²`.
-#[derive(Debug, Clone)]
-pub struct BoundaryEnergy {
-    /// Row `S_i`.
+pub struct ContactEnergy {
+    /// Row s.
     pub s: Vec<(usize, f64)>,
-    /// Row `(B_N − γ S)_i`.
+    /// Row r.
     pub r: Vec<(usize, f64)>,
     /// g₀_i.
     pub g0: f64,
@@ -75,7 +68,7 @@ pub struct BoundaryEnergy {
     pub b: f64,
 }
 
-impl BoundaryEnergy {
+impl ContactEnergy {
     /// Its value at U.
     pub fn eval(&self, u: &[f64]) -> f64 {
         let dot = |row: &[(usize, f64)]| row.iter().map(|&(j, v)| v * u[j]).sum::<f64>();
@@ -116,7 +109,7 @@ pub struct VertexMap {
 impl Contact {
     /// The rows whose transpose applies the contact force (`−Qᵀ λ`): B_N, or Nitsche's Q.
     pub fn force_rows(&self) -> &SpMat {
-        self.nitsche.as_ref().map_or(&self.b_n, |n| &n.force)
+        self.force.as_ref().unwrap_or(&self.b_n)
     }
 
     /// The contact forces per vertex of Γ_C and the vertices' areas (λ and `area` themselves when
@@ -155,10 +148,10 @@ impl Contact {
     }
 
     /// The row of the physical gap `g_i = g₀_i − Σ v u_dof` at contact point `i`: row `i` of
-    /// `B_N`, or for Nitsche (whose `B_N` rows are the law's `u_N − γ σ_N`) the row of `u_N`.
+    /// [`Contact::normal`] when set, of `B_N` otherwise.
     pub fn gap_row(&self, i: usize) -> Vec<(usize, f64)> {
-        match &self.nitsche {
-            Some(n) => n.normal[i].clone(),
+        match &self.normal {
+            Some(rows) => rows[i].clone(),
             None => self.row(i),
         }
     }

@@ -11,7 +11,7 @@
 pub mod contact;
 pub mod inertia;
 
-pub use contact::{BoundaryEnergy, BoundaryPoint, Contact, ContactFace, NitscheRows, VertexMap};
+pub use contact::{BoundaryPoint, Contact, ContactEnergy, ContactFace, VertexMap};
 pub use inertia::{Inertia, StepOperator};
 
 use crate::error::{Error, Result};
@@ -40,17 +40,17 @@ pub struct EnergyForm {
     load: Option<Vec<f64>>,
     /// [`Problem::energy_shift`].
     shift: f64,
-    /// Nitsche's boundary energy.
-    boundary: Vec<BoundaryEnergy>,
+    /// The energy stored in the contact rows ([`Contact::energy`]).
+    contact: Vec<ContactEnergy>,
     work: Vec<f64>,
 }
 
 impl EnergyForm {
-    /// `E = ½ vᵀ M v + ½ Uᵀ K U − Fᵀ U (+ shift)` (+ Nitsche's boundary energy).
+    /// `E = ½ vᵀ M v + ½ Uᵀ K U − Fᵀ U (+ shift)` (+ the energy of the contact rows).
     pub fn energy(&mut self, u: &[f64], v: &[f64]) -> f64 {
         0.5 * self.kinetic.eval(v, &mut self.work)
             + 0.5 * self.stiffness.eval(u, &mut self.work)
-            + self.boundary.iter().map(|b| b.eval(u)).sum::<f64>()
+            + self.contact.iter().map(|b| b.eval(u)).sum::<f64>()
             - self
                 .load
                 .as_ref()
@@ -94,11 +94,7 @@ impl Problem {
             stiffness: linalg::QuadraticForm::new(&self.k),
             load: self.f.iter().any(|&x| x != 0.0).then(|| self.f.clone()),
             shift: self.energy_shift,
-            boundary: self
-                .contact
-                .nitsche
-                .as_ref()
-                .map_or_else(Vec::new, |n| n.energy.clone()),
+            contact: self.contact.energy.clone(),
             work: Vec::new(),
         }
     }

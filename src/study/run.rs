@@ -128,12 +128,8 @@ pub fn run_with_output(
     let scheme = crate::time::by_name(&spec.scheme, spec.params())?;
     let formulation = crate::contact::formulation(&spec.options)?;
     let mut problem = case.problem(space.as_ref())?;
-    formulation.check_scheme(scheme.name())?;
-    formulation.contact(&mut problem)?;
-    let solver = formulation.law(
-        crate::contact::by_name(spec.options.contact_solver(), problem.contact.len())?,
-        &problem,
-    );
+    formulation.check_scheme(scheme.name(), scheme.enforcement())?;
+    let solver = formulation.setup(&mut problem, spec.options.contact_solver())?;
     let field = case.field_error();
     let exact = case.exact();
     let impact = case.impact();
@@ -142,7 +138,9 @@ pub fn run_with_output(
         contact: solver,
         linear: crate::time::LinearSolver::by_name(spec.options.linear_solver())?,
     };
-    let mut integrator = scheme.prepare(&problem, spec.dt, solvers)?;
+    let mut integrator = scheme
+        .prepare(&problem, spec.dt, solvers)
+        .map_err(|e| formulation.explain(e))?;
     let mut bar = Progress::new(progress, steps);
     let (rows, field_errors, mut peak, iterations) = std::thread::scope(|scope| -> Result<_> {
         let (tx, rx) = mpsc::sync_channel::<Snapshot>(SAMPLE_QUEUE);

@@ -10,6 +10,7 @@
 use super::implicit::ContactStep;
 use super::stepper::{time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
+use crate::contact::Enforcement;
 use crate::error::Result;
 use crate::param::Entry;
 use crate::problem::Problem;
@@ -28,6 +29,10 @@ pub struct BackwardEuler;
 impl Scheme for BackwardEuler {
     fn name(&self) -> &'static str {
         "backward_euler"
+    }
+
+    fn enforcement(&self) -> Enforcement {
+        Enforcement::Position
     }
 
     fn prepare<'p>(

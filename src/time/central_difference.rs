@@ -17,6 +17,7 @@
 use super::implicit::{ContactStep, LinearSolver};
 use super::stepper::{time_step, Stepper, ThreeLevel};
 use super::{Integrator, Scheme, State, StepInfo};
+use crate::contact::Enforcement;
 use crate::error::{Error, Result};
 use crate::linalg::{self, SpMat, TripletBuilder};
 use crate::param::Entry;
@@ -41,6 +42,10 @@ pub struct CentralDifference;
 impl Scheme for CentralDifference {
     fn name(&self) -> &'static str {
         "central_difference"
+    }
+
+    fn enforcement(&self) -> Enforcement {
+        Enforcement::Explicit
     }
 
     fn prepare<'p>(

@@ -9,6 +9,7 @@
 
 use super::newmark::{Newmark, NewmarkIntegrator};
 use super::{Integrator, Scheme};
+use crate::contact::Enforcement;
 use crate::error::{in_range, Result};
 use crate::param::{Entry, Param};
 use crate::problem::Problem;
@@ -54,6 +55,10 @@ impl Hht {
 impl Scheme for Hht {
     fn name(&self) -> &'static str {
         "hht"
+    }
+
+    fn enforcement(&self) -> Enforcement {
+        Enforcement::Position
     }
 
     fn prepare<'p>(

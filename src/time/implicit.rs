@@ -113,23 +113,6 @@ fn check_stiffness_resolved(
     ))
 }
 
-/// A failed factorisation with Nitsche's contact: says that its term `−θ ∫ γ σ_n(u) σ_n(v)`
-/// (θ > 0) makes the stiffness indefinite when γ₀ is too small.
-fn nitsche_hint(problem: &Problem, e: Error) -> Error {
-    match e {
-        Error::Factorisation { matrix, reason } if problem.contact.nitsche.is_some() => {
-            Error::Factorisation {
-                matrix,
-                reason: format!(
-                    "{reason}; with nitsche contact and θ > 0 the term −θ ∫ γ σ_n(u) σ_n(v) makes \
-                     the stiffness indefinite when γ₀ is too small: increase run.nitsche_gamma"
-                ),
-            }
-        }
-        e => e,
-    }
-}
-
 /// The constant step operator with its contact coupling, solved directly or by CG.
 #[allow(clippy::large_enum_variant)]
 pub enum ContactStep {
@@ -247,10 +230,7 @@ impl DirectStep {
         c: f64,
         solver: Box<dyn Solver>,
     ) -> Result<Self> {
-        let mut op = problem
-            .inertia
-            .step_operator(k, m_coef, k_coef)
-            .map_err(|e| nitsche_hint(problem, e))?;
+        let mut op = problem.inertia.step_operator(k, m_coef, k_coef)?;
         let (n, nw, nc) = (problem.n(), problem.inertia.dim(), problem.contact.len());
         let mut d = DMatrix::zeros(nc, nc);
         let mut zu = Vec::with_capacity(nc);
@@ -259,7 +239,7 @@ impl DirectStep {
         let stored_len = if mixed { n + nw } else { n };
         let store = stored_len * nc <= STORE_Z_LIMIT;
         let b_rows = linalg::rows(&problem.contact.b_n);
-        // The force rows: B_N, or Nitsche's Q (then D = c B_N A⁻¹ Qᵀ is not symmetric).
+        // The force rows: B_N, or other rows Q (then D = c B_N A⁻¹ Qᵀ is not symmetric).
         let f_rows = linalg::rows(problem.contact.force_rows());
         // Columns of Z = A⁻¹ Qᵀ by blocks of right-hand sides (blocked triangular solves).
         for start in (0..nc).step_by(BLOCK) {
@@ -285,7 +265,7 @@ impl DirectStep {
                 }
             }
         }
-        let d = if problem.contact.nitsche.is_some() {
+        let d = if problem.contact.force.is_some() {
             d
         } else {
             (&d + d.transpose()) * 0.5

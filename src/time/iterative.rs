@@ -321,9 +321,10 @@ fn row_times(a: &SpMat, d: usize, u: &[f64]) -> f64 {
 
 /// `(d_i, b_i)` of every contact point, or why `B_N` is not nodal along axes.
 pub fn nodal_points(problem: &Problem) -> Result<Vec<(usize, f64)>> {
-    if problem.contact.nitsche.is_some() {
+    if problem.contact.force.is_some() {
         return Err(Error::Unsupported(
-            "linear solver cg needs nodal contact, not nitsche (use direct)".into(),
+            "linear solver cg needs nodal contact, whose force rows are its gap rows (use direct)"
+                .into(),
         ));
     }
     let b_n = &problem.contact.b_n;

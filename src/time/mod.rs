@@ -67,6 +67,8 @@ pub trait Integrator {
 pub trait Scheme: std::fmt::Debug + Send + Sync {
     /// Name used on the CLI and in outputs.
     fn name(&self) -> &'static str;
+    /// How the step imposes the contact law (formulations refuse by it).
+    fn enforcement(&self) -> contact::Enforcement;
     /// Assembles and factors once; the returned integrator starts from `(U₀, V₀)`.
     fn prepare<'p>(
         &self,

@@ -16,6 +16,7 @@ use super::implicit::ContactStep;
 use super::paoli_schatzman::RESTITUTION;
 use super::stepper::{time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
+use crate::contact::Enforcement;
 use crate::error::{in_range, Result};
 use crate::linalg;
 use crate::param::{Entry, Param};
@@ -62,6 +63,10 @@ impl MoreauJean {
 impl Scheme for MoreauJean {
     fn name(&self) -> &'static str {
         "moreau_jean"
+    }
+
+    fn enforcement(&self) -> Enforcement {
+        Enforcement::Impact
     }
 
     fn prepare<'p>(

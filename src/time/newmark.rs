@@ -14,6 +14,7 @@
 use super::implicit::ContactStep;
 use super::stepper::{initial_acceleration, time_step, Stepper};
 use super::{Integrator, Scheme, State, StepInfo};
+use crate::contact::Enforcement;
 use crate::error::{in_range, positive, Result};
 use crate::linalg;
 use crate::param::{Entry, Param};
@@ -62,6 +63,10 @@ impl Newmark {
 impl Scheme for Newmark {
     fn name(&self) -> &'static str {
         "newmark"
+    }
+
+    fn enforcement(&self) -> Enforcement {
+        Enforcement::Position
     }
 
     fn prepare<'p>(

@@ -17,6 +17,7 @@
 use super::implicit::ContactStep;
 use super::stepper::{time_step, Stepper, ThreeLevel};
 use super::{Integrator, Scheme, State, StepInfo};
+use crate::contact::Enforcement;
 use crate::error::{in_range, Result};
 use crate::linalg;
 use crate::param::{Entry, Param};
@@ -55,6 +56,10 @@ impl PaoliSchatzman {
 impl Scheme for PaoliSchatzman {
     fn name(&self) -> &'static str {
         "paoli_schatzman"
+    }
+
+    fn enforcement(&self) -> Enforcement {
+        Enforcement::Impact
     }
 
     fn prepare<'p>(
