@@ -32,9 +32,14 @@ pub enum Error {
         name: String,
         known: String,
     },
-    /// A combination that is well formed but not supported (e.g. singular_dynamic with P1).
+    /// A combination that is well formed but refused by design (e.g. singular_dynamic with P1),
+    /// with the reason.
     #[error("unsupported combination: {0}")]
     Unsupported(String),
+    /// An internal fault: a state the code should never reach (inconsistent shapes, a worker
+    /// thread that stopped). A bug, not a property of the input: please report it.
+    #[error("internal error (a bug, please report it): {0}")]
+    Internal(String),
     /// A matrix that must be SPD is not, or a factorisation failed.
     #[error("factorisation of {matrix} failed: {reason}")]
     Factorisation { matrix: String, reason: String },
@@ -43,7 +48,8 @@ pub enum Error {
     ContactSolver {
         step: usize,
         time: f64,
-        reason: String,
+        #[source]
+        reason: SolverError,
     },
     /// The discrete solution blew up (NaN or infinite values).
     #[error("solution diverged at step {step} (t = {time:.6e}): {reason}")]
@@ -64,6 +70,37 @@ pub enum Error {
     /// Plotting failed.
     #[error("plot {path}: {message}")]
     Plot { path: PathBuf, message: String },
+}
+
+/// Why a per-step contact solver failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolverError {
+    /// The Delassus block of the active set is not positive definite.
+    #[error("Delassus block not positive definite (pivot {pivot:e})")]
+    NotPositiveDefinite {
+        /// The failing pivot.
+        pivot: f64,
+    },
+    /// A Newton-type active-set iteration met a singular active block.
+    #[error("{method}: singular active block")]
+    Singular {
+        /// The method.
+        method: &'static str,
+    },
+    /// No solution after the allowed iterations.
+    #[error("{method} did not converge: {detail}")]
+    NotConverged {
+        /// The method.
+        method: &'static str,
+        /// What was exhausted, with its measure (iterations, residual).
+        detail: String,
+    },
+    /// The external solver (Clarabel) stopped with a status other than solved.
+    #[error("clarabel status {status}")]
+    Clarabel {
+        /// Its status (and what followed).
+        status: String,
+    },
 }
 
 impl Error {

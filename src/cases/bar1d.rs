@@ -192,7 +192,7 @@ impl Case for Bar1d {
         let n = s.n_dofs;
         let c0 = self
             .contact_dof()
-            .ok_or_else(|| Error::Unsupported("bar1d: the contact end is clamped".into()))?;
+            .ok_or_else(|| Error::Internal("bar1d: the contact end is clamped".into()))?;
         let young = self.exact.young;
         let k = s.assemble(|_| segment_stiffness(s.element, s.mesh.h(), young))?;
         let inertia = space.inertia(&self.mass_model())?;

@@ -11,6 +11,7 @@
 //! round-off: λ_i = 0 or g_i = 0 up to the dense Cholesky solve of the active block.
 
 use super::{SolveInfo, Solver};
+use crate::error::SolverError;
 use nalgebra::DMatrix;
 
 /// Block-pivoting steps allowed without a decrease of the infeasible count before falling back
@@ -53,7 +54,7 @@ impl ActiveSet {
         d: &DMatrix<f64>,
         q: &[f64],
         lambda: &mut [f64],
-    ) -> Result<(), String> {
+    ) -> Result<(), SolverError> {
         self.index.clear();
         self.index.extend((0..q.len()).filter(|&i| self.active[i]));
         let k = self.index.len();
@@ -89,7 +90,7 @@ impl ActiveSet {
     }
 
     /// Dense Cholesky `L Lᵀ = D_𝒜𝒜` of the active block into `chol` (row-major k × k).
-    fn factor_active(&mut self, d: &DMatrix<f64>, k: usize) -> Result<(), String> {
+    fn factor_active(&mut self, d: &DMatrix<f64>, k: usize) -> Result<(), SolverError> {
         let l = &mut self.chol[..k * k];
         for a in 0..k {
             for b in 0..=a {
@@ -99,9 +100,7 @@ impl ActiveSet {
                 }
                 if a == b {
                     if s <= 0.0 || !s.is_finite() {
-                        return Err(format!(
-                            "Delassus block not positive definite (pivot {s:e})"
-                        ));
+                        return Err(SolverError::NotPositiveDefinite { pivot: s });
                     }
                     l[a * k + a] = s.sqrt();
                 } else {
@@ -151,7 +150,7 @@ impl Solver for ActiveSet {
         d: &DMatrix<f64>,
         q: &[f64],
         lambda: &mut [f64],
-    ) -> Result<SolveInfo, String> {
+    ) -> Result<SolveInfo, SolverError> {
         let n = q.len();
         if n == 0 {
             return Ok(SolveInfo::default());
@@ -188,9 +187,10 @@ impl Solver for ActiveSet {
                 self.active[i] = !self.active[i];
             }
         }
-        Err(format!(
-            "no complementary solution after {max_iterations} pivots"
-        ))
+        Err(SolverError::NotConverged {
+            method: "block principal pivoting",
+            detail: format!("no complementary solution after {max_iterations} pivots"),
+        })
     }
 }
 

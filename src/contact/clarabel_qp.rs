@@ -11,6 +11,7 @@
 //! n_c, not the fast path (see `benches/contact.rs`).
 
 use super::{SolveInfo, Solver};
+use crate::error::SolverError;
 use clarabel::algebra::{CscMatrix, MatrixMathMut};
 use clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
@@ -102,7 +103,7 @@ impl Solver for ClarabelQp {
         d: &DMatrix<f64>,
         q: &[f64],
         lambda: &mut [f64],
-    ) -> std::result::Result<SolveInfo, String> {
+    ) -> std::result::Result<SolveInfo, SolverError> {
         lambda.fill(0.0);
         let index: Vec<usize> = (0..q.len()).filter(|&i| q[i].is_finite()).collect();
         if index.is_empty() {
@@ -116,14 +117,18 @@ impl Solver for ClarabelQp {
         let b = vec![0.0; k];
         let cones = [SupportedConeT::NonnegativeConeT(k)];
         let mut solver = DefaultSolver::new(&p, &qs, &a, &b, &cones, self.settings.clone())
-            .map_err(|e| format!("clarabel setup failed: {e}"))?;
+            .map_err(|e| SolverError::Clarabel {
+                status: format!("setup failed: {e}"),
+            })?;
         solver.solve();
         let status = solver.solution.status;
         if !matches!(
             status,
             SolverStatus::Solved | SolverStatus::AlmostSolved | SolverStatus::InsufficientProgress
         ) {
-            return Err(format!("clarabel status {status:?}"));
+            return Err(SolverError::Clarabel {
+                status: format!("{status:?}"),
+            });
         }
         // The dual variable of `λ ≥ 0` is the gap; a point is active when its pressure dominates.
         let guess: Vec<bool> = index
@@ -145,7 +150,11 @@ impl Solver for ClarabelQp {
                     lambda[i] = x.max(0.0);
                 }
             }
-            None => return Err(format!("clarabel status {status:?}, polishing failed")),
+            None => {
+                return Err(SolverError::Clarabel {
+                    status: format!("{status:?}, polishing failed"),
+                })
+            }
         }
         Ok(SolveInfo {
             iterations: solver.info.iterations as usize,

@@ -14,7 +14,7 @@ pub mod nodal;
 pub mod penalty;
 pub mod weak;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, SolverError};
 use crate::param::{Entry, Options};
 use crate::problem::Problem;
 use nalgebra::DMatrix;
@@ -38,13 +38,12 @@ pub trait Solver: Send {
         true
     }
     /// Solves the LCP; `lambda` holds a warm start on entry and the solution on exit.
-    /// Returns a reason string when the solver fails.
     fn solve(
         &mut self,
         d: &DMatrix<f64>,
         q: &[f64],
         lambda: &mut [f64],
-    ) -> std::result::Result<SolveInfo, String>;
+    ) -> std::result::Result<SolveInfo, SolverError>;
 }
 
 /// LCP solver names accepted by [`by_name`].

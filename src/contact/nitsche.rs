@@ -28,7 +28,7 @@
 //! refused. Cases: bar1d and every meshed 2D/3D body (not the spring–mass, which has no stress).
 
 use super::{Enforcement, Formulation, SolveInfo, Solver};
-use crate::error::{in_range, positive, Error, Result};
+use crate::error::{in_range, positive, Error, Result, SolverError};
 use crate::linalg::TripletBuilder;
 use crate::param::{Entry, Options, Param};
 use crate::problem::{BoundaryPoint, ContactEnergy, Problem, VertexMap};
@@ -199,7 +199,7 @@ fn nearest_point(points: &[BoundaryPoint], vertex: usize) -> Result<usize> {
                 .total_cmp(&share(&points[a]))
                 .then(points[a].g0.total_cmp(&points[b].g0))
         })
-        .ok_or_else(|| Error::Unsupported("the probe vertex is on no face of Γ_C".into()))
+        .ok_or_else(|| Error::Internal("the probe vertex is on no face of Γ_C".into()))
 }
 
 /// The per-step law `λ = (w/γ)[−g]₊` with `g = q + D λ` (D not symmetric for θ ≠ 1): the
@@ -225,7 +225,7 @@ impl Solver for NitscheLaw {
         d: &DMatrix<f64>,
         q: &[f64],
         lambda: &mut [f64],
-    ) -> std::result::Result<SolveInfo, String> {
+    ) -> std::result::Result<SolveInfo, SolverError> {
         let n = q.len();
         let c = &self.compliance;
         let mut active: Vec<usize> = Vec::new();
@@ -257,16 +257,16 @@ impl Solver for NitscheLaw {
                 d[(i, j)] + if i == j { c[i] } else { 0.0 }
             });
             let rhs = nalgebra::DVector::from_iterator(k, active.iter().map(|&i| -q[i]));
-            let x = block
-                .lu()
-                .solve(&rhs)
-                .ok_or_else(|| "Nitsche Newton: singular active block".to_string())?;
+            let x = block.lu().solve(&rhs).ok_or(SolverError::Singular {
+                method: "Nitsche Newton",
+            })?;
             for (a, &i) in active.iter().enumerate() {
                 lambda[i] = x[a];
             }
         }
-        Err(format!(
-            "Nitsche Newton did not settle its active set in {MAX_ITERATIONS} iterations"
-        ))
+        Err(SolverError::NotConverged {
+            method: "Nitsche Newton",
+            detail: format!("no settled active set in {MAX_ITERATIONS} iterations"),
+        })
     }
 }

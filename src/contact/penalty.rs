@@ -9,7 +9,7 @@
 //! reference.
 
 use super::{Formulation, SolveInfo, Solver};
-use crate::error::{positive, Result};
+use crate::error::{positive, Result, SolverError};
 use crate::param::{Entry, Options, Param};
 use crate::problem::Problem;
 use nalgebra::DMatrix;
@@ -87,7 +87,7 @@ impl Solver for Penalty {
         d: &DMatrix<f64>,
         q: &[f64],
         lambda: &mut [f64],
-    ) -> std::result::Result<SolveInfo, String> {
+    ) -> std::result::Result<SolveInfo, SolverError> {
         let eps = self.ratio * (0..q.len()).fold(0.0f64, |m, i| m.max(d[(i, i)]));
         let regularised = shifted(&mut self.regularised, d, |_| eps);
         self.exact.solve(regularised, q, lambda)

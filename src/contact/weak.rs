@@ -158,9 +158,7 @@ impl Formulation for Weak {
             problem.probe.contact = (0..rows.len())
                 .filter(|&r| rows[r].iter().any(|e| e.0 == probe))
                 .min_by(|&a, &b| g0[a].total_cmp(&g0[b]))
-                .ok_or_else(|| {
-                    Error::Unsupported("the probe vertex is on no face of Γ_C".into())
-                })?;
+                .ok_or_else(|| Error::Internal("the probe vertex is on no face of Γ_C".into()))?;
             contact.vertices = Some(VertexMap {
                 shares: rows,
                 area: contact.area.clone(),

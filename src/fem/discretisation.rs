@@ -281,7 +281,7 @@ impl Discretisation {
         }
         let (vertex, nv) = self.vertex_index();
         if v.len() != nv * d {
-            return Err(Error::Unsupported(format!(
+            return Err(Error::Internal(format!(
                 "a velocity of {} entries is neither in V_h ({n}) nor in H_h ({})",
                 v.len(),
                 nv * d
@@ -341,7 +341,10 @@ impl Discretisation {
         let probe = (0..verts.len())
             .filter(|&r| contact.g0[r] <= lowest + tie)
             .min_by(|&a, &b| dist(a).total_cmp(&dist(b)))
-            .ok_or_else(|| Error::Unsupported("no contact vertex".into()))?;
+            .ok_or_else(|| Error::Mesh {
+                origin: self.mesh.origin.clone(),
+                message: "Γ_C has no vertex".into(),
+            })?;
         let node = verts[probe].0;
         let u_dof = self.dof(node, d - 1);
         Ok(Probe {

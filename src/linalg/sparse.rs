@@ -43,10 +43,10 @@ impl TripletBuilder {
     pub fn build(&self) -> Result<SpMat> {
         let (n, m) = (self.nrows, self.ncols);
         if let Some(t) = self.entries.iter().find(|t| t.row >= n || t.col >= m) {
-            return Err(Error::Factorisation {
-                matrix: format!("{n}x{m} assembly"),
-                reason: format!("entry ({}, {}) out of bounds", t.row, t.col),
-            });
+            return Err(Error::Internal(format!(
+                "{n}x{m} assembly: entry ({}, {}) out of bounds",
+                t.row, t.col
+            )));
         }
         let mut start = vec![0usize; m + 1];
         for t in &self.entries {
@@ -128,10 +128,11 @@ pub fn diagonal(a: &SpMat) -> Vec<f64> {
 pub fn lin_comb(a: f64, x: &SpMat, b: f64, y: &SpMat) -> Result<SpMat> {
     let (n, m) = (x.nrows(), x.ncols());
     if (y.nrows(), y.ncols()) != (n, m) {
-        return Err(Error::Factorisation {
-            matrix: format!("{n}x{m} + {}x{}", y.nrows(), y.ncols()),
-            reason: "shapes differ".into(),
-        });
+        return Err(Error::Internal(format!(
+            "a · X + b · Y of a {n}x{m} and a {}x{} matrix",
+            y.nrows(),
+            y.ncols()
+        )));
     }
     let ((xp, xi, xv), (yp, yi, yv)) = (csc(x), csc(y));
     let mut col_ptr = Vec::with_capacity(m + 1);

@@ -113,7 +113,7 @@ impl Problem {
             if len == want {
                 Ok(())
             } else {
-                Err(Error::Unsupported(format!(
+                Err(Error::Internal(format!(
                     "{what} has length {len}, expected {want}"
                 )))
             }

@@ -236,12 +236,13 @@ impl Shot<'_> {
                 inside.then_some((poly, v))
             })
             .collect();
-        if cells.is_empty() {
-            return Err(Error::Unsupported(format!(
-                "{kind}: no cell within {window:.3e} of the contact for the von Mises picture"
-            )));
-        }
         let name = format!("{kind}_von_mises.png");
+        if cells.is_empty() {
+            return Err(Error::Plot {
+                path: out.join(&name),
+                message: format!("no cell within {window:.3e} of the contact"),
+            });
+        }
         cell_map(
             &out.join(&name),
             &format!("{kind}: von Mises stress at peak force (t = {:.3})", peak.t),

@@ -60,18 +60,13 @@ fn blocks(
                 .into(),
         ),
     ];
-    let counts: Vec<String> = [
-        Status::Ok,
-        Status::Diverged,
-        Status::Failed,
-        Status::Unsupported,
-    ]
-    .iter()
-    .map(|s| {
-        let n = records.iter().filter(|r| r.status == *s).count();
-        format!("{n} {}", s.as_str())
-    })
-    .collect();
+    let counts: Vec<String> = Status::ALL
+        .iter()
+        .map(|s| {
+            let n = records.iter().filter(|r| r.status == *s).count();
+            format!("{n} {}", s.as_str())
+        })
+        .collect();
     b.push(Block::Heading("Run status".into()));
     b.push(Block::Para(format!("{}.", counts.join(", "))));
     // The first non-ok run of each series and status, with its reason.

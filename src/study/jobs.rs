@@ -60,19 +60,34 @@ pub enum Status {
     Failed,
     /// The combination is not defined (e.g. an explicit scheme with the singular dynamic mass).
     Unsupported,
+    /// An internal fault (a bug): the run says nothing about the method.
+    Internal,
 }
 
 impl Status {
+    /// Every status, in the order of the report's counts.
+    pub const ALL: [Status; 5] = [
+        Status::Ok,
+        Status::Diverged,
+        Status::Failed,
+        Status::Unsupported,
+        Status::Internal,
+    ];
+
+    /// The status of a run that ended with `e`: a blow-up is `diverged`, a combination refused
+    /// by design `unsupported`, a bug `internal`, anything else `failed`.
+    pub fn of(e: &Error) -> Self {
+        match e {
+            Error::Diverged { .. } => Status::Diverged,
+            Error::Unsupported(_) => Status::Unsupported,
+            Error::Internal(_) => Status::Internal,
+            _ => Status::Failed,
+        }
+    }
+
     /// The status called `name` (as written by [`Status::as_str`]).
     pub fn parse(name: &str) -> Option<Self> {
-        [
-            Status::Ok,
-            Status::Diverged,
-            Status::Failed,
-            Status::Unsupported,
-        ]
-        .into_iter()
-        .find(|s| s.as_str() == name)
+        Self::ALL.into_iter().find(|s| s.as_str() == name)
     }
 
     /// Name written to CSV.
@@ -82,6 +97,7 @@ impl Status {
             Status::Diverged => "diverged",
             Status::Failed => "failed",
             Status::Unsupported => "unsupported",
+            Status::Internal => "internal",
         }
     }
 }
@@ -206,12 +222,7 @@ pub fn run_jobs(jobs: &[Job], progress: bool) -> Vec<RunRecord> {
 /// Runs one job and classifies its outcome.
 pub fn run_job(job: &Job) -> RunRecord {
     let failed = |e: Error, case: Option<&dyn Case>| {
-        let status = match e {
-            Error::Diverged { .. } => Status::Diverged,
-            Error::Unsupported(_) => Status::Unsupported,
-            _ => Status::Failed,
-        };
-        (status, e.to_string(), failed_summary(job, case))
+        (Status::of(&e), e.to_string(), failed_summary(job, case))
     };
     let mut probe = Vec::new();
     let (status, reason, summary) = match job.file.build(&job.overrides) {
@@ -264,5 +275,29 @@ fn failed_summary(job: &Job, case: Option<&dyn Case>) -> Summary {
         wall_time: 0.0,
         max_rss: f64::NAN,
         metrics: Metrics::unavailable(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bug is recorded as `internal`, never as an unsupported combination, and every status
+    /// reads back from its name.
+    #[test]
+    fn internal_faults_are_their_own_status() {
+        let internal = Error::Internal("a worker stopped".into());
+        assert_eq!(Status::of(&internal), Status::Internal);
+        assert_eq!(
+            Status::of(&Error::Unsupported("by design".into())),
+            Status::Unsupported
+        );
+        assert_eq!(
+            Status::of(&Error::invalid("dt", -1.0, "> 0")),
+            Status::Failed
+        );
+        for s in Status::ALL {
+            assert_eq!(Status::parse(s.as_str()), Some(s));
+        }
     }
 }

@@ -192,10 +192,10 @@ fn pair_samples<'a>(
             }
             match ours.get(k) {
                 Some(r) if (r.t - p.t).abs() <= 0.5 * peer.dt => Ok((p, r)),
-                _ => Err(Error::Unsupported(format!(
-                    "{}: no dyncontact sample at t = {}",
-                    peer.file, p.t
-                ))),
+                _ => Err(Error::Csv {
+                    path: (&peer.file).into(),
+                    message: format!("no dyncontact sample at t = {}", p.t),
+                }),
             }
         })
         .collect()

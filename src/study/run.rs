@@ -202,9 +202,9 @@ pub fn run_with_output(
         drop(tx);
         let (rows, errors, peak) = sampler
             .join()
-            .map_err(|_| Error::Unsupported("the sampling thread panicked".into()))??;
+            .map_err(|_| Error::Internal("the sampling thread panicked".into()))??;
         if rows.len() != steps + 1 {
-            return Err(Error::Unsupported("the sampling thread stopped".into()));
+            return Err(Error::Internal("the sampling thread stopped".into()));
         }
         Ok((rows, errors, peak, iterations))
     })?;

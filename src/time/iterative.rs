@@ -25,7 +25,7 @@
 //! solved by its Cholesky factor in single precision ([`massless_neighbourhood`]).
 
 use crate::contact::SolveInfo;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, SolverError};
 use crate::linalg::{self, Pcg, SpMat};
 use crate::problem::Problem;
 
@@ -127,9 +127,10 @@ impl IterativeStep {
         Err(Error::ContactSolver {
             step: at.0,
             time: at.1,
-            reason: format!(
-                "the active set of the cg step did not settle in {MAX_ACTIVE_SET_UPDATES} updates"
-            ),
+            reason: SolverError::NotConverged {
+                method: "the active set of the cg step",
+                detail: format!("no settled set in {MAX_ACTIVE_SET_UPDATES} updates"),
+            },
         })
     }
 
@@ -206,10 +207,10 @@ impl IterativeStep {
         .map_err(|res| Error::ContactSolver {
             step,
             time,
-            reason: format!(
-                "cg did not converge: relative residual {res:.3e} after \
-                     {CG_MAX_ITERATIONS} iterations"
-            ),
+            reason: SolverError::NotConverged {
+                method: "cg",
+                detail: format!("relative residual {res:.3e} after {CG_MAX_ITERATIONS} iterations"),
+            },
         })?;
         Ok(())
     }
