@@ -7,9 +7,9 @@
 //! `E_{n+1} − Eₙ = −½‖v_{n+1} − vₙ‖²_M − ½‖U_{n+1} − Uₙ‖²_K − λ_{n+1}·gₙ ≤ 0`
 //! (the contact force only works on a gap that closes). Hairer & Wanner, Solving ODEs II.
 
-use super::implicit::ContactStep;
-use super::stepper::{time_step, Stepper};
-use super::{Integrator, Scheme, State, StepInfo};
+use super::scheme::{Integrator, Scheme, State, StepInfo};
+use super::step::ContactStep;
+use super::step::{time_step, Stepper};
 use crate::contact::Enforcement;
 use crate::error::Result;
 use crate::param::Entry;
@@ -39,7 +39,7 @@ impl Scheme for BackwardEuler {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: super::Solvers,
+        contact: super::scheme::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         let dt = time_step(problem, dt)?;
         let system = ContactStep::new(problem, (1.0, dt * dt), dt * dt, contact)?;

@@ -14,9 +14,9 @@
 //! or all massless. Reports the half-step velocity and the midpoint energy like
 //! [`super::paoli_schatzman`].
 
-use super::implicit::{ContactStep, LinearSolver};
-use super::stepper::{time_step, Stepper, ThreeLevel};
-use super::{Integrator, Scheme, State, StepInfo};
+use super::scheme::{Integrator, Scheme, State, StepInfo};
+use super::step::{time_step, Stepper, ThreeLevel};
+use super::step::{ContactStep, LinearSolver};
 use crate::contact::Enforcement;
 use crate::error::{Error, Result};
 use crate::linalg::{self, SpMat, TripletBuilder};
@@ -52,7 +52,7 @@ impl Scheme for CentralDifference {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: super::Solvers,
+        contact: super::scheme::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         let dt = time_step(problem, dt)?;
         if contact.linear == LinearSolver::Cg {
@@ -62,7 +62,7 @@ impl Scheme for CentralDifference {
                     .into(),
             ));
         }
-        let contact = super::Solvers {
+        let contact = super::scheme::Solvers {
             linear: LinearSolver::Direct,
             ..contact
         };

@@ -8,7 +8,7 @@
 //! shared Newmark integrator in inertial variables ([`super::newmark`]).
 
 use super::newmark::{Newmark, NewmarkIntegrator};
-use super::{Integrator, Scheme};
+use super::scheme::{Integrator, Scheme};
 use crate::contact::Enforcement;
 use crate::error::{in_range, Result};
 use crate::param::{Entry, Param};
@@ -65,7 +65,7 @@ impl Scheme for Hht {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: super::Solvers,
+        contact: super::scheme::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         Ok(Box::new(NewmarkIntegrator::new(
             problem,

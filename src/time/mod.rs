@@ -14,88 +14,16 @@
 pub mod backward_euler;
 pub mod central_difference;
 pub mod hht;
-pub mod implicit;
-pub mod iterative;
 pub mod moreau_jean;
 pub mod newmark;
 pub mod paoli_schatzman;
-mod stepper;
+pub mod scheme;
+pub mod step;
 
-use crate::contact;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::param::{Entry, Params};
-use crate::problem::Problem;
-pub use implicit::{LinearSolver, LINEAR_SOLVERS};
-
-/// Per-step report.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct StepInfo {
-    /// Contact-solver iterations in this step.
-    pub contact_iterations: usize,
-    /// Active contact points after this step.
-    pub active: usize,
-}
-
-/// Read-only view of the discrete state at time `t`.
-#[derive(Debug, Clone, Copy)]
-pub struct State<'a> {
-    /// Current time.
-    pub t: f64,
-    /// Steps taken.
-    pub step: usize,
-    /// Displacement U.
-    pub u: &'a [f64],
-    /// Inertial velocity (U̇ for a sparse mass, the H_h velocity for the singular dynamic method;
-    /// the half-step velocity `(U_{n+1} − U_n)/Δt` for the three-level schemes).
-    pub v: &'a [f64],
-    /// Displacement at which the scheme's discrete energy is evaluated with `v`: U itself, or the
-    /// midpoint `(U_{n+1} + U_n)/2` for the three-level schemes (the energy they conserve).
-    pub energy_u: &'a [f64],
-    /// Contact pressures λ (nodal forces, ≥ 0) at the current time level.
-    pub lambda: &'a [f64],
-}
-
-/// A prepared scheme on one problem.
-pub trait Integrator {
-    /// Advances one step.
-    fn step(&mut self) -> Result<StepInfo>;
-    /// The current state.
-    fn state(&self) -> State<'_>;
-}
-
-/// A time discretisation (parameters only).
-pub trait Scheme: std::fmt::Debug + Send + Sync {
-    /// Name used on the CLI and in outputs.
-    fn name(&self) -> &'static str;
-    /// How the step imposes the contact law (formulations refuse by it).
-    fn enforcement(&self) -> contact::Enforcement;
-    /// Assembles and factors once; the returned integrator starts from `(U₀, V₀)`.
-    fn prepare<'p>(
-        &self,
-        problem: &'p Problem,
-        dt: f64,
-        solvers: Solvers,
-    ) -> Result<Box<dyn Integrator + 'p>>;
-}
-
-/// The solvers of an implicit step: the LCP solver on the contact dofs (direct step) and the
-/// linear solver of the step matrix.
-pub struct Solvers {
-    /// LCP solver of the direct step.
-    pub contact: Box<dyn contact::Solver>,
-    /// Direct factor or CG.
-    pub linear: LinearSolver,
-}
-
-impl From<Box<dyn contact::Solver>> for Solvers {
-    /// The contact solver with [`LinearSolver::Auto`].
-    fn from(contact: Box<dyn contact::Solver>) -> Self {
-        Self {
-            contact,
-            linear: LinearSolver::Auto,
-        }
-    }
-}
+pub use scheme::{Integrator, Scheme, Solvers, State, StepInfo};
+pub use step::{LinearSolver, LINEAR_SOLVERS};
 
 /// The schemes, one registry line each (their parameters are declared in their files).
 pub const SCHEMES: &[Entry<dyn Scheme>] = &[
@@ -115,27 +43,4 @@ pub fn entry(name: &str) -> Result<&'static Entry<dyn Scheme>> {
 /// The scheme called `name` with its parameters read from `p` and validated.
 pub fn by_name(name: &str, p: &Params) -> Result<Box<dyn Scheme>> {
     (entry(name)?.build)(p)
-}
-
-/// Error if any value of `x` is not finite.
-pub(crate) fn check_finite(x: &[f64], step: usize, time: f64, what: &str) -> Result<()> {
-    // `v · 0` is 0 for finite v and NaN otherwise: a branch-free test, with 8 independent
-    // accumulators so that it vectorises.
-    let mut acc = [0.0f64; 8];
-    let chunks = x.chunks_exact(8);
-    let rest: f64 = chunks.remainder().iter().map(|v| v * 0.0).sum();
-    for c in chunks {
-        for (a, v) in acc.iter_mut().zip(c) {
-            *a += v * 0.0;
-        }
-    }
-    if acc.iter().sum::<f64>() + rest == 0.0 {
-        Ok(())
-    } else {
-        Err(Error::Diverged {
-            step,
-            time,
-            reason: format!("{what} is not finite"),
-        })
-    }
 }

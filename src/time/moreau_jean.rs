@@ -12,10 +12,10 @@
 //! `ġ_{n+1} = −ġₙ`). Penetration is O(Δt), not zero: the law holds on velocities. With the
 //! singular dynamic method the inertial variable is the H_h velocity `C⁻¹ B V`.
 
-use super::implicit::ContactStep;
 use super::paoli_schatzman::RESTITUTION;
-use super::stepper::{time_step, Stepper};
-use super::{Integrator, Scheme, State, StepInfo};
+use super::scheme::{Integrator, Scheme, State, StepInfo};
+use super::step::ContactStep;
+use super::step::{time_step, Stepper};
 use crate::contact::Enforcement;
 use crate::error::{in_range, Result};
 use crate::linalg;
@@ -73,7 +73,7 @@ impl Scheme for MoreauJean {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: super::Solvers,
+        contact: super::scheme::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         let dt = time_step(problem, dt)?;
         let th = self.theta * dt;

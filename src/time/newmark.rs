@@ -11,9 +11,9 @@
 //!
 //! Newmark (1959); with contact: Khenous, Laborde, Renard (2008), Eur. J. Mech. A/Solids 27.
 
-use super::implicit::ContactStep;
-use super::stepper::{initial_acceleration, time_step, Stepper};
-use super::{Integrator, Scheme, State, StepInfo};
+use super::scheme::{Integrator, Scheme, State, StepInfo};
+use super::step::ContactStep;
+use super::step::{initial_acceleration, time_step, Stepper};
 use crate::contact::Enforcement;
 use crate::error::{in_range, positive, Result};
 use crate::linalg;
@@ -73,7 +73,7 @@ impl Scheme for Newmark {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: super::Solvers,
+        contact: super::scheme::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         Ok(Box::new(NewmarkIntegrator::new(
             problem, dt, contact, *self, 0.0,
@@ -95,7 +95,7 @@ impl<'p> NewmarkIntegrator<'p> {
     pub fn new(
         problem: &'p Problem,
         dt: f64,
-        contact: super::Solvers,
+        contact: super::scheme::Solvers,
         p: Newmark,
         alpha: f64,
     ) -> Result<Self> {
@@ -104,7 +104,7 @@ impl<'p> NewmarkIntegrator<'p> {
         let system = ContactStep::new(problem, (1.0, (1.0 + alpha) * c), c, contact)?;
         let a = problem.inertia.project(&initial_acceleration(problem)?)?;
         let s = Stepper::new(problem, dt, system)?;
-        super::check_finite(&a, 0, 0.0, "initial acceleration")?;
+        super::scheme::check_finite(&a, 0, 0.0, "initial acceleration")?;
         Ok(Self {
             w_pred: vec![0.0; a.len()],
             s,

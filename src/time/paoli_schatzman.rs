@@ -14,9 +14,9 @@
 //! Started from `U₋₁ = U₀ − Δt V₀ + ½ Δt² A₀`. M products use the inertial variables, so every
 //! space, including the singular dynamic method, is supported.
 
-use super::implicit::ContactStep;
-use super::stepper::{time_step, Stepper, ThreeLevel};
-use super::{Integrator, Scheme, State, StepInfo};
+use super::scheme::{Integrator, Scheme, State, StepInfo};
+use super::step::ContactStep;
+use super::step::{time_step, Stepper, ThreeLevel};
 use crate::contact::Enforcement;
 use crate::error::{in_range, Result};
 use crate::linalg;
@@ -66,7 +66,7 @@ impl Scheme for PaoliSchatzman {
         &self,
         problem: &'p Problem,
         dt: f64,
-        contact: super::Solvers,
+        contact: super::scheme::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         let dt = time_step(problem, dt)?;
         let e = self.restitution;

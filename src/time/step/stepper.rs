@@ -1,15 +1,15 @@
 //! State and workspace shared by every scheme: the factored step system, the displacement, the
 //! inertial variables and the contact pressures, and the bookkeeping of one step.
 
-use super::implicit::ContactStep;
-use super::{check_finite, State, StepInfo};
+use super::contact_step::ContactStep;
 use crate::contact::SolveInfo;
 use crate::error::{positive, Error, Result};
 use crate::linalg;
 use crate::problem::Problem;
+use crate::time::scheme::{check_finite, State, StepInfo};
 
 /// The common part of every integrator.
-pub(crate) struct Stepper<'p> {
+pub struct Stepper<'p> {
     pub problem: &'p Problem,
     pub system: ContactStep,
     pub dt: f64,
@@ -110,13 +110,13 @@ impl<'p> Stepper<'p> {
 }
 
 /// Validated time step.
-pub(crate) fn time_step(problem: &Problem, dt: f64) -> Result<f64> {
+pub fn time_step(problem: &Problem, dt: f64) -> Result<f64> {
     problem.validate()?;
     positive("dt", dt)
 }
 
 /// The Galerkin acceleration at t = 0 from `M A₀ = F − K U₀` (no contact force).
-pub(crate) fn initial_acceleration(problem: &Problem) -> Result<Vec<f64>> {
+pub fn initial_acceleration(problem: &Problem) -> Result<Vec<f64>> {
     let mut r = problem.f.clone();
     linalg::mul_add(&mut r, &problem.k, &problem.u0, -1.0);
     problem.inertia.acceleration(&r)
@@ -125,7 +125,7 @@ pub(crate) fn initial_acceleration(problem: &Problem) -> Result<Vec<f64>> {
 /// Levels n − 1, the midpoint displacement and the half-step velocity of the three-level schemes
 /// (Paoli–Schatzman, central difference), started from the Taylor value
 /// `U₋₁ = U₀ − Δt V₀ + ½ Δt² A₀`.
-pub(crate) struct ThreeLevel {
+pub struct ThreeLevel {
     /// `U_{n−1}`.
     pub u_prev: Vec<f64>,
     /// Inertial `w_{n−1}`.

@@ -9,11 +9,9 @@
 //! part is `Z` itself and is not stored twice); otherwise the corrected state is obtained by a
 //! second solve.
 
-use super::iterative::{nodal_points, IterativeStep};
 use crate::contact::{SolveInfo, Solver};
 use crate::error::{Error, Result};
 use crate::linalg;
-use crate::linalg::SpMat;
 use crate::problem::{Problem, StepOperator};
 use nalgebra::DMatrix;
 
@@ -35,170 +33,11 @@ fn row_dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
     row.iter().map(|&(j, v)| v * u[j]).sum()
 }
 
-/// How the step matrix is solved (`--linear-solver`, `[run] linear_solver`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum LinearSolver {
-    /// [`LinearSolver::Cg`] where it applies and pays, [`LinearSolver::Direct`] otherwise; the rule
-    /// is [`cg_pays`].
-    #[default]
-    Auto,
-    /// Sparse Cholesky (LU for the singular dynamic saddle system), factored once, with the
-    /// Delassus operator on the contact dofs.
-    Direct,
-    /// Jacobi-preconditioned CG with a primal–dual active set ([`super::iterative`]).
-    Cg,
-}
-
-/// Linear solver names accepted by [`LinearSolver::by_name`].
-pub const LINEAR_SOLVERS: &[&str] = &["auto", "direct", "cg"];
-
-impl LinearSolver {
-    /// The linear solver called `name`.
-    pub fn by_name(name: &str) -> Result<Self> {
-        match name {
-            "auto" => Ok(Self::Auto),
-            "direct" => Ok(Self::Direct),
-            "cg" => Ok(Self::Cg),
-            _ => Err(Error::UnknownName {
-                kind: "linear solver",
-                name: name.to_string(),
-                known: LINEAR_SOLVERS.join(", "),
-            }),
-        }
-    }
-}
-
-/// Dofs from which [`LinearSolver::Auto`] considers CG.
-pub const AUTO_CG_DOFS: usize = 50_000;
-/// The rule of [`LinearSolver::Auto`]: CG when the mass is a sparse matrix, the contact is nodal
-/// along axes, the problem has n ≥ [`AUTO_CG_DOFS`] dofs and K is not a narrow band (2D and 3D
-/// meshes, where the Cholesky factor fills in and each direct step also pays the Delassus
-/// correction over every active contact column); the direct factor otherwise, 1D included.
-/// Measured (README, Speed): block2d Q1 224² 19 against 42 ms per step, block3d Q1 32³ 41 ms
-/// against 0.56 s (and 65 s of prepare).
-pub fn cg_pays(problem: &Problem, k: &SpMat) -> bool {
-    problem.inertia.sparse().is_some()
-        && problem.n() >= AUTO_CG_DOFS
-        && !linalg::is_narrow_band(k)
-        && nodal_points(problem).is_ok()
-}
-
-/// Refuses a step matrix `m M + k K` in which the stiffness is below the round-off of the mass
-/// (`k max K_ii < ε m max M_ii`): the time step is then so small that K no longer enters the
-/// step (with a massless dof the matrix is singular), which would otherwise surface as a
-/// factorisation failure or a silently wrong solve.
-fn check_stiffness_resolved(
-    problem: &Problem,
-    k: &SpMat,
-    (m_coef, k_coef): (f64, f64),
-) -> Result<()> {
-    let max_diag = |a: &SpMat| {
-        linalg::diagonal(a)
-            .iter()
-            .fold(0.0_f64, |m, v| m.max(v.abs()))
-    };
-    let mass = max_diag(problem.inertia.kinetic());
-    let k_max = max_diag(k);
-    let (stiff, mass) = (k_coef.abs() * k_max, m_coef.abs() * mass);
-    if stiff > 0.0 && stiff >= f64::EPSILON * mass || k_max == 0.0 {
-        return Ok(());
-    }
-    Err(Error::invalid(
-        "dt",
-        format!("a step matrix with stiffness factor {k_coef:.3e}"),
-        &format!(
-            "too small: the stiffness term of the step matrix ({stiff:.3e}) is below the \
-             round-off of its mass term ({mass:.3e}); increase dt"
-        ),
-    ))
-}
-
-/// The constant step operator with its contact coupling, solved directly or by CG.
-#[allow(clippy::large_enum_variant)]
-pub enum ContactStep {
-    /// Factored once, Delassus operator on the contact dofs.
-    Direct(DirectStep),
-    /// CG with an active set.
-    Iterative(IterativeStep),
-}
-
-impl ContactStep {
-    /// The step operator `m_coef M + k_coef K` with the solvers' choice (see [`DirectStep::new`]).
-    pub fn new(
-        problem: &Problem,
-        coefs: (f64, f64),
-        c: f64,
-        solvers: super::Solvers,
-    ) -> Result<Self> {
-        Self::with_stiffness(problem, &problem.k, coefs, c, solvers)
-    }
-
-    /// As [`ContactStep::new`] with the stiffness `k` in place of the problem's.
-    pub fn with_stiffness(
-        problem: &Problem,
-        k: &SpMat,
-        coefs: (f64, f64),
-        c: f64,
-        solvers: super::Solvers,
-    ) -> Result<Self> {
-        check_stiffness_resolved(problem, k, coefs)?;
-        let signorini = solvers.contact.signorini();
-        let cg = match solvers.linear {
-            LinearSolver::Direct => false,
-            LinearSolver::Cg if !signorini => {
-                return Err(Error::Unsupported(format!(
-                    "linear solver cg enforces Signorini's law by its own active set, not the {} \
-                     law (use direct)",
-                    solvers.contact.name()
-                )))
-            }
-            LinearSolver::Cg => true,
-            LinearSolver::Auto => signorini && cg_pays(problem, k),
-        };
-        Ok(if cg {
-            Self::Iterative(IterativeStep::new(problem, k, coefs, c)?)
-        } else {
-            Self::Direct(DirectStep::with_stiffness(
-                problem,
-                k,
-                coefs,
-                c,
-                solvers.contact,
-            )?)
-        })
-    }
-
-    /// Solves `A X = r` without contact.
-    pub fn solve_free(&mut self, r: &[f64], u: &mut [f64], w: &mut [f64]) -> Result<()> {
-        match self {
-            Self::Direct(s) => {
-                s.solve_free(r, u, w);
-                Ok(())
-            }
-            Self::Iterative(s) => s.solve_free(r, u, w),
-        }
-    }
-
-    /// Solves the step with the complementarity law (see [`DirectStep::solve`]).
-    pub fn solve(
-        &mut self,
-        problem: &Problem,
-        rhs: (&[f64], &[f64]),
-        x: (&mut [f64], &mut [f64]),
-        lambda: &mut [f64],
-        at: (usize, f64),
-    ) -> Result<SolveInfo> {
-        match self {
-            Self::Direct(s) => s.solve(problem, rhs, x, lambda, at),
-            Self::Iterative(s) => s.solve(rhs, x, lambda, at),
-        }
-    }
-}
-
 /// Constant step operator, factored once, with its contact coupling.
 pub struct DirectStep {
     op: Box<dyn StepOperator>,
-    solver: Box<dyn Solver>,
+    /// The formulation's law (taken out while it solves).
+    solver: Option<Box<dyn Solver>>,
     /// `A⁻¹ B_Nᵀ`, when small enough to store.
     z: Option<Coupling>,
     d: DMatrix<f64>,
@@ -272,7 +111,7 @@ impl DirectStep {
         };
         Ok(Self {
             op,
-            solver,
+            solver: Some(solver),
             z: store.then_some(Coupling { zu, zw }),
             d,
             c,
@@ -292,6 +131,26 @@ impl DirectStep {
     pub fn solve(
         &mut self,
         problem: &Problem,
+        rhs: (&[f64], &[f64]),
+        x: (&mut [f64], &mut [f64]),
+        lambda: &mut [f64],
+        at: (usize, f64),
+    ) -> Result<SolveInfo> {
+        let mut own = self
+            .solver
+            .take()
+            .ok_or_else(|| Error::Internal("the step's contact law is in use".into()))?;
+        let out = self.solve_with(own.as_mut(), problem, rhs, x, lambda, at);
+        self.solver = Some(own);
+        out
+    }
+
+    /// As [`DirectStep::solve`] with the law `law` (a scheme's own) in place of the
+    /// formulation's: λ solves `law` on `g = q + D λ`.
+    pub fn solve_with(
+        &mut self,
+        law: &mut dyn Solver,
+        problem: &Problem,
         (r, offset): (&[f64], &[f64]),
         (u, w): (&mut [f64], &mut [f64]),
         lambda: &mut [f64],
@@ -302,8 +161,7 @@ impl DirectStep {
         for (q, row) in self.q.iter_mut().zip(&self.b_rows) {
             *q -= row_dot(row, u);
         }
-        let info = self
-            .solver
+        let info = law
             .solve(&self.d, &self.q, lambda)
             .map_err(|reason| Error::ContactSolver { step, time, reason })?;
         if lambda.iter().all(|&l| l == 0.0) {
