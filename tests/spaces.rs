@@ -40,8 +40,8 @@ fn dense_mass(model: &MassModel, space: &str) -> DMatrix<f64> {
 
 fn coords(bar: &Bar1d) -> DVector<f64> {
     DVector::from_iterator(
-        bar.space.n_nodes(),
-        (0..bar.space.n_nodes()).map(|i| bar.space.node_x(i)),
+        bar.fem.mesh.nodes.len(),
+        bar.fem.mesh.nodes.iter().map(|x| x[0]),
     )
 }
 

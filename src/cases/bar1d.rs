@@ -11,12 +11,13 @@ use crate::element::segment::Segment;
 use crate::error::{positive, Error, Result};
 use crate::exact::bar_impact::BarImpact;
 use crate::exact::ExactContact;
-use crate::fem::assembly::{segment_mass, segment_mixed_mass, segment_stiffness};
-use crate::fem::lagrange1d::Lagrange1d;
-use crate::linalg::TripletBuilder;
-use crate::mesh::interval::IntervalMesh;
-use crate::problem::{BoundaryPoint, Contact, ContactFace, Probe, Problem};
-use crate::space::{ElementMass, ElementMixed, MassModel, Space, VelocitySpace};
+use crate::fem::assembly::{segment_mass, segment_stiffness};
+use crate::fem::discretisation::{Discretisation, Initial};
+use crate::fem::elasticity::Lame;
+use crate::mesh::interval::interval;
+use crate::mesh::{ContactRule, FACING};
+use crate::problem::Problem;
+use crate::space::{MassModel, Space};
 use serde::Deserialize;
 
 /// `[material]`.
@@ -75,14 +76,15 @@ pub struct Bar1dSpec {
 pub struct Bar1d {
     /// The exact solution with the case's parameters.
     pub exact: BarImpact,
-    /// Displacement space (clamped at x = L unless `clamped` is false).
-    pub space: Lagrange1d,
+    /// The bar's discretisation: a uniform interval mesh of P1/P2 segments, clamped at x = L
+    /// unless built free ([`Bar1d::new`]), Γ_C its end x = 0 (ν = 0: `σ = E u'`).
+    pub fem: Discretisation,
     run: RunSpec,
     sweeps: Vec<super::sweep::SweepSpec>,
 }
 
 impl Bar1d {
-    /// Validates the spec, applies the overrides and builds the FE space.
+    /// Validates the spec, applies the overrides and builds the discretisation.
     pub fn from_spec(spec: Bar1dSpec, o: &Overrides) -> Result<Self> {
         positive("material.young", spec.material.young)?;
         positive("material.density", spec.material.density)?;
@@ -118,11 +120,22 @@ impl Bar1d {
         // K, M and the step matrix (≤ 2p + 1 entries per row, 16 B each), and the vectors.
         let dofs = (elements * degree) as f64;
         crate::util::check_memory("mesh.elements", elements, dofs * (3.0 * 5.0 * 16.0 + 200.0))?;
-        let mesh = IntervalMesh::new(exact.length, elements)?;
-        let fixed: &[f64] = if clamped { &[exact.length] } else { &[] };
+        let mesh = interval(exact.length, elements, degree)?;
+        // ν = 0: λ = 0, 2μ = E exactly.
+        let lame = Lame {
+            lambda: 0.0,
+            mu: 0.5 * exact.young,
+        };
+        let fem = Discretisation::new(mesh, lame, exact.density, ContactRule::Facing(FACING))?;
+        let length = exact.length;
+        let fem = if clamped {
+            fem.clamped(|x| (x[0] - length).abs() < 1e-9 * length)?
+        } else {
+            fem
+        };
         Ok(Self {
             exact,
-            space: Lagrange1d::new(mesh, degree, fixed),
+            fem,
             run,
             sweeps: Vec::new(),
         })
@@ -130,51 +143,33 @@ impl Bar1d {
 
     /// Element data for the spaces: consistent P_p masses and, for P2, the P1 velocity space.
     pub fn mass_model(&self) -> MassModel {
-        let s = &self.space;
-        let (h, rho) = (s.mesh.h(), self.exact.density);
-        let local = segment_mass(s.element, h, rho);
-        let n_el = s.mesh.n_elements;
-        let elements = (0..n_el)
-            .map(|e| ElementMass {
-                x: s.element_nodes(e)
-                    .map(|i| [s.node_x(i), 0.0, 0.0])
-                    .collect(),
-                mass: local.clone(),
-                dofs: vec![s.element_dofs(e)],
-            })
-            .collect();
-        let velocity = (s.element.degree == 2).then(|| {
-            let p1 = Segment { degree: 1 };
-            let c = segment_mass(p1, h, rho);
-            let b = segment_mixed_mass(p1, s.element, h, rho);
-            let mixed = (0..n_el)
-                .map(|e| ElementMixed {
-                    c: c.clone(),
-                    b: b.clone(),
-                    vdofs: vec![vec![e, e + 1]],
-                })
-                .collect();
-            VelocitySpace {
-                elements: mixed,
-                dim: n_el + 1,
-                // Node p·e (the vertex e) carries H_h dof e.
-                dof_of: (0..s.n_nodes())
-                    .filter_map(|i| s.dof_of_node[i].map(|_| (i % 2 == 0).then_some(i / 2)))
-                    .collect(),
-            }
-        });
-        MassModel {
-            n_dofs: s.n_dofs,
-            dim: 1,
-            elements,
-            contact_dofs: self.contact_dof().into_iter().collect(),
-            velocity,
-        }
+        self.fem.mass_model()
     }
 
-    /// The dof of u(0) (the contact end).
-    fn contact_dof(&self) -> Option<usize> {
-        self.space.dof_of_node[0]
+    /// The degree p, the element length h and the number of elements.
+    fn layout(&self) -> (usize, f64, usize) {
+        let mesh = &self.fem.mesh;
+        (mesh.element.degree, mesh.h, mesh.connectivity.len())
+    }
+
+    /// Value of the free-dof vector `u` at node `i` (0 at the clamped node).
+    fn nodal(&self, u: &[f64], i: usize) -> f64 {
+        self.fem.dofs.get(i, 0).map_or(0.0, |d| u[d])
+    }
+
+    /// `(u_h(x), u_h'(x))` in element `e` at reference coordinate ξ.
+    fn eval_in(&self, u: &[f64], e: usize, xi: f64) -> (f64, f64) {
+        let (p, h, _) = self.layout();
+        let seg = Segment { degree: p };
+        (p * e..=p * e + p)
+            .enumerate()
+            .fold((0.0, 0.0), |(v, d), (k, i)| {
+                let ui = self.nodal(u, i);
+                (
+                    v + ui * seg.value(k, xi),
+                    d + ui * seg.derivative(k, xi) / h,
+                )
+            })
     }
 }
 
@@ -184,68 +179,19 @@ impl Case for Bar1d {
     }
 
     fn h(&self) -> f64 {
-        self.space.mesh.h()
+        self.fem.mesh.h
     }
 
     fn problem(&self, space: &dyn Space) -> Result<Problem> {
-        let s = &self.space;
-        let n = s.n_dofs;
-        let c0 = self
-            .contact_dof()
-            .ok_or_else(|| Error::Internal("bar1d: the contact end is clamped".into()))?;
-        let young = self.exact.young;
-        let k = s.assemble(|_| segment_stiffness(s.element, s.mesh.h(), young))?;
-        let inertia = space.inertia(&self.mass_model())?;
-        // Outward normal at x = 0 is −e_x: u_N = −u(0), g = 0 − B_N U = u(0).
-        let mut b_n = TripletBuilder::new(1, n);
-        b_n.add(0, c0, -1.0);
-        // σ_N = n σ n = E u'(0), from the first element at ξ = 0.
-        let h = s.mesh.h();
-        let sigma_n = s
-            .element_dofs(0)
-            .into_iter()
-            .enumerate()
-            .filter_map(|(k, dof)| dof.map(|d| (d, young * s.element.derivative(k, 0.0) / h)))
-            .collect();
-        // Γ_C is the point x = 0: the boundary "integral" is the point value, weight 1.
-        let point = BoundaryPoint {
-            weight: 1.0,
-            g0: 0.0,
-            u_n: vec![(c0, -1.0)],
-            sigma_n,
-            h_over_e: h / young,
-            vertices: vec![(0, 1.0)],
+        let initial = Initial {
+            displacement: self
+                .fem
+                .interpolate(|x| [self.exact.field(x[0], 0.0).0, 0.0, 0.0]),
+            velocity: vec![0.0; self.fem.n_dofs()],
+            gravity: None,
+            lift: 0.0,
         };
-        let mut u0 = vec![0.0; n];
-        for (i, d) in s.dof_of_node.iter().enumerate() {
-            if let Some(d) = d {
-                u0[*d] = self.exact.field(s.node_x(i), 0.0).0;
-            }
-        }
-        Ok(Problem {
-            inertia,
-            k,
-            f: vec![0.0; n],
-            contact: Contact {
-                b_n: b_n.build()?,
-                g0: vec![0.0],
-                area: vec![1.0],
-                faces: vec![ContactFace::point(0)],
-                vertices: None,
-                quadrature: Some(vec![point]),
-                force: None,
-                normal: None,
-                energy: Vec::new(),
-            },
-            u0,
-            v0: vec![0.0; n],
-            probe: Probe {
-                contact: 0,
-                u_dof: c0,
-                w_dof: 0,
-            },
-            energy_shift: 0.0,
-        })
+        self.fem.problem(|m| space.inertia(m), &initial)
     }
 
     fn exact(&self) -> Option<&dyn ExactContact> {
@@ -287,7 +233,8 @@ struct BarFieldError<'a> {
 
 impl<'a> BarFieldError<'a> {
     fn new(bar: &'a Bar1d) -> Self {
-        let (el, h) = (bar.space.element, bar.space.mesh.h());
+        let (p, h, _) = bar.layout();
+        let el = Segment { degree: p };
         let pad = |m: nalgebra::DMatrix<f64>| {
             let mut a = [[0.0; 3]; 3];
             for (i, row) in a.iter_mut().enumerate().take(m.nrows()) {
@@ -310,9 +257,9 @@ impl<'a> BarFieldError<'a> {
     /// `∫_K (u_h − u)²` and `∫_K (u_h' − u')²` on element `e` by Gauss on its pieces between
     /// the characteristics `kinks`.
     fn by_quadrature(&self, u: &[f64], e: usize, t: f64, kinks: [f64; 2]) -> (f64, f64) {
-        let (s, ex) = (&self.bar.space, &self.bar.exact);
-        let h = s.mesh.h();
-        let xa = s.mesh.x_left(e);
+        let ex = &self.bar.exact;
+        let (_, h, _) = self.bar.layout();
+        let xa = e as f64 * h;
         let mut cuts = [xa, kinks[0], kinks[1], xa + h];
         for c in &mut cuts[1..3] {
             *c = c.clamp(xa, xa + h);
@@ -323,7 +270,7 @@ impl<'a> BarFieldError<'a> {
             let len = piece[1] - piece[0];
             for &(q, w) in &self.rule {
                 let x = piece[0] + q * len;
-                let (uh, duh) = s.eval_in(u, e, (x - xa) / h);
+                let (uh, duh) = self.bar.eval_in(u, e, (x - xa) / h);
                 let (ue, sigma, _) = ex.field(x, t);
                 l2 += w * len * (uh - ue).powi(2);
                 h1 += w * len * (duh - sigma / ex.young).powi(2);
@@ -366,9 +313,9 @@ fn nodal_sums<const N: usize>(err: &[f64], m: &[[f64; 3]; 3], k: &[[f64; 3]; 3])
 
 impl FieldError for BarFieldError<'_> {
     fn errors(&self, u: &[f64], t: f64) -> (f64, f64) {
-        let s = &self.bar.space;
         let ex = &self.bar.exact;
-        let (l, h, p) = (ex.length, s.mesh.h(), s.element.degree);
+        let (p, h, n_el) = self.bar.layout();
+        let l = ex.length;
         let frac = (ex.wave_speed() * t / l).rem_euclid(3.0).fract();
         let mut kinks = [frac * l, (1.0 - frac) * l];
         kinks.sort_by(f64::total_cmp);
@@ -381,8 +328,8 @@ impl FieldError for BarFieldError<'_> {
             pieces[piece].1 + pieces[piece].2 * x
         };
         let h_node = h / p as f64;
-        let nodal_error: Vec<f64> = (s.dof_of_node.iter().enumerate())
-            .map(|(i, d)| d.map_or(0.0, |d| u[d]) - exact_at(i as f64 * h_node))
+        let nodal_error: Vec<f64> = (0..=p * n_el)
+            .map(|i| self.bar.nodal(u, i) - exact_at(i as f64 * h_node))
             .collect();
         let (m, k) = &self.reference;
         let (mut l2, mut h1) = match p {
@@ -391,10 +338,10 @@ impl FieldError for BarFieldError<'_> {
         };
         // The elements cut by a characteristic: their nodal sums replaced by the piecewise rule.
         for e in crate::util::unique(kinks.map(|c| (c / h).floor() as usize)) {
-            if e >= s.mesh.n_elements {
+            if e >= n_el {
                 continue;
             }
-            let xa = s.mesh.x_left(e);
+            let xa = e as f64 * h;
             if !kinks.iter().any(|&c| c > xa && c < xa + h) {
                 continue;
             }

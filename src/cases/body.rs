@@ -18,7 +18,7 @@ use crate::element::reference::{RefElement, Shape};
 use crate::error::{positive, Error, Result};
 use crate::exact::hertz::Hertz;
 use crate::exact::ExactContact;
-use crate::fem::discretisation::Discretisation;
+use crate::fem::discretisation::{Discretisation, Initial};
 use crate::fem::elasticity::Lame;
 use crate::mesh::structured::box_mesh;
 use crate::mesh::{ContactRule, Mesh, FACING};
@@ -374,31 +374,17 @@ impl Case for Body {
     }
 
     fn problem(&self, space: &dyn Space) -> Result<Problem> {
-        let fem = &self.fem;
-        let (d, n) = (fem.dim(), fem.n_dofs());
-        let model = fem.mass_model();
-        let inertia = space.inertia(&model)?;
-        let contact = fem.contact(self.geometry.lift)?;
-        let probe = fem.probe(&contact, inertia.as_ref())?;
-        let mut v0 = vec![0.0; n];
-        for v in v0.iter_mut().skip(d - 1).step_by(d) {
-            *v = self.geometry.velocity;
-        }
-        let f = fem.gravity_load(&model, self.geometry.gravity);
-        // Gravitational energy measured from the plane: −Fᵀ(x_d + lift) = m g (z_cm + lift).
-        let energy_shift = -(0..fem.mesh.nodes.len())
-            .map(|i| f[i * d + d - 1] * (fem.mesh.nodes[i][d - 1] + self.geometry.lift))
-            .sum::<f64>();
-        Ok(Problem {
-            k: fem.stiffness()?,
-            f,
-            inertia,
-            contact,
-            u0: vec![0.0; n],
-            v0,
-            probe,
-            energy_shift,
-        })
+        let (fem, g) = (&self.fem, &self.geometry);
+        let d = fem.dim();
+        let initial = Initial {
+            displacement: vec![0.0; fem.n_dofs()],
+            velocity: fem.interpolate(|_| {
+                std::array::from_fn(|k| if k == d - 1 { g.velocity } else { 0.0 })
+            }),
+            gravity: Some(g.gravity),
+            lift: g.lift,
+        };
+        fem.problem(|m| space.inertia(m), &initial)
     }
 
     fn exact(&self) -> Option<&dyn ExactContact> {

@@ -1,14 +1,13 @@
-//! `spring_mass`: one mass on a spring above a rigid obstacle (`shared/reference/spring_mass.md`).
-//! `m ü + k u = f + k u_r − B_Nᵀ λ` with `B_N = −1` (outward normal points down), `g = u`.
+//! `spring_mass`: one mass on a spring above a rigid obstacle (`shared/reference/spring_mass.md`),
+//! `m ü + k u = f + k u_r − B_Nᵀ λ`, discretised by [`PointMass`].
 
 use super::{Case, FieldError, Overrides, RunSpec};
 use crate::error::{Error, Result};
 use crate::exact::spring_mass::{SpringMass, SpringMassParams};
 use crate::exact::ExactContact;
-use crate::linalg::TripletBuilder;
-use crate::problem::{Contact, ContactFace, Probe, Problem};
-use crate::space::{ElementMass, MassModel, Space};
-use nalgebra::DMatrix;
+use crate::fem::point_mass::{PointInitial, PointMass};
+use crate::problem::Problem;
+use crate::space::{MassModel, Space};
 use serde::Deserialize;
 
 /// `[system]`.
@@ -115,59 +114,33 @@ impl Case for SpringMassCase {
     }
 
     fn problem(&self, space: &dyn Space) -> Result<Problem> {
-        if !matches!(space.name(), "standard" | "lumped") {
-            return Err(Error::Unsupported(format!(
-                "spring_mass has a single dof, which is the contact dof: space `{}` would remove \
-                 its inertia (use standard or lumped)",
-                space.name()
-            )));
-        }
         let p = &self.exact.p;
-        let model = MassModel {
-            n_dofs: 1,
-            dim: 1,
-            elements: vec![ElementMass {
-                x: vec![[0.0; 3]],
-                mass: DMatrix::from_element(1, 1, p.mass),
-                dofs: vec![vec![Some(0)]],
-            }],
-            contact_dofs: vec![0],
-            velocity: None,
-        };
-        let mut k = TripletBuilder::new(1, 1);
-        k.add(0, 0, p.stiffness);
-        let mut b_n = TripletBuilder::new(1, 1);
-        b_n.add(0, 0, -1.0);
         let shift = if p.stiffness > 0.0 {
             let ue = p.rest_position + p.force / p.stiffness;
             0.5 * p.stiffness * ue * ue
         } else {
             0.0
         };
-        Ok(Problem {
-            inertia: space.inertia(&model)?,
-            k: k.build()?,
-            f: vec![p.force + p.stiffness * p.rest_position],
-            contact: Contact {
-                b_n: b_n.build()?,
-                g0: vec![0.0],
-                area: vec![1.0],
-                faces: vec![ContactFace::point(0)],
-                vertices: None,
-                quadrature: None,
-                force: None,
-                normal: None,
-                energy: Vec::new(),
-            },
-            u0: vec![p.u0],
-            v0: vec![p.v0],
-            probe: Probe {
-                contact: 0,
-                u_dof: 0,
-                w_dof: 0,
-            },
+        let point = PointMass {
+            mass: p.mass,
+            stiffness: p.stiffness,
+        };
+        let initial = PointInitial {
+            displacement: p.u0,
+            velocity: p.v0,
+            load: p.force + p.stiffness * p.rest_position,
             energy_shift: shift,
-        })
+        };
+        // The single dof is the contact dof: a space must leave it its mass.
+        let keeps_inertia = |model: &MassModel| match space.inertia(model) {
+            Ok(inertia) if inertia.sparse().is_some() && !inertia.massless()[0] => Ok(inertia),
+            _ => Err(Error::Unsupported(format!(
+                "spring_mass has a single dof, which is the contact dof: space `{}` would remove \
+                 its inertia (use standard or lumped)",
+                space.name()
+            ))),
+        };
+        point.problem(keeps_inertia, &initial)
     }
 
     fn exact(&self) -> Option<&dyn ExactContact> {

@@ -1,7 +1,8 @@
-//! Reference Lagrange elements in 2D and 3D (the geometry is isoparametric: see
+//! Reference Lagrange elements in 1D, 2D and 3D (the geometry is isoparametric: see
 //! [`super::geometry::jacobian`]):
 //! - tensor elements Q1/Q2 on [0, 1]^d, local nodes in lexicographic order (x fastest) on the
-//!   (p + 1)^d grid of equispaced points;
+//!   (p + 1)^d grid of equispaced points; in 1D the segment P1/P2 ([`RefElement::segment`],
+//!   local nodes left to right as in [`super::segment::Segment`]);
 //! - simplices P1/P2 (triangles, tetrahedra) on {ξ ≥ 0, Σ ξ_k ≤ 1}: the vertices 0 and e_k, then
 //!   for P2 the edge midpoints in [`EDGES_2D`] / [`EDGES_3D`] order.
 //!
@@ -24,7 +25,7 @@ pub enum Shape {
 pub struct RefElement {
     /// Shape.
     pub shape: Shape,
-    /// Spatial dimension (2 or 3; triangles only in 2D).
+    /// Spatial dimension (1, 2 or 3; the segment is the tensor element of dimension 1).
     pub dim: usize,
     /// Degree.
     pub degree: usize,
@@ -49,6 +50,15 @@ fn lagrange_1d(degree: usize, i: usize, x: f64) -> (f64, f64) {
 }
 
 impl RefElement {
+    /// The segment of degree `degree` (1 or 2): the tensor element of dimension 1.
+    pub fn segment(degree: usize) -> Self {
+        Self {
+            shape: Shape::Tensor,
+            dim: 1,
+            degree,
+        }
+    }
+
     /// Number of local nodes.
     pub fn n_nodes(&self) -> usize {
         match self.shape {
@@ -170,6 +180,9 @@ impl RefElement {
     pub fn quadrature(&self) -> Vec<([f64; 3], f64)> {
         let rule = gauss_legendre_01(self.degree + 2);
         match self.shape {
+            Shape::Tensor if self.dim == 1 => {
+                rule.iter().map(|&(x, w)| ([x, 0.0, 0.0], w)).collect()
+            }
             Shape::Tensor => {
                 let mut out = Vec::new();
                 let kmax = if self.dim == 3 { rule.len() } else { 1 };
@@ -222,20 +235,23 @@ impl RefElement {
     }
 
     /// Local indices of the vertices in the conventional order of Gmsh and VTK: a simplex's
-    /// 0..=d; a quadrilateral's counter-clockwise; a hexahedron's bottom face counter-clockwise,
-    /// then its top face.
+    /// 0..=d; a segment's left to right; a quadrilateral's counter-clockwise; a hexahedron's
+    /// bottom face counter-clockwise, then its top face.
     pub fn cyclic_vertices(&self) -> Vec<usize> {
         match self.shape {
             Shape::Simplex => (0..=self.dim).collect(),
+            Shape::Tensor if self.dim == 1 => self.vertices(),
             Shape::Tensor => (0..self.dim - 1)
                 .flat_map(|z| SQUARE.iter().map(move |&[x, y]| self.corner([x, y, z])))
                 .collect(),
         }
     }
 
-    /// The faces (edges in 2D) as local vertex indices, quadrilaterals in cyclic order.
+    /// The faces (edges in 2D, end points in 1D) as local vertex indices, quadrilaterals in
+    /// cyclic order.
     pub fn faces(&self) -> Vec<Vec<usize>> {
         match (self.shape, self.dim) {
+            (_, 1) => self.vertices().into_iter().map(|a| vec![a]).collect(),
             (Shape::Simplex, 2) => vec![vec![0, 1], vec![1, 2], vec![2, 0]],
             (Shape::Simplex, _) => vec![vec![1, 2, 3], vec![0, 2, 3], vec![0, 1, 3], vec![0, 1, 2]],
             (Shape::Tensor, d) => {
@@ -316,6 +332,31 @@ mod tests {
                 let gs: [f64; 3] = std::array::from_fn(|k| g.iter().map(|x| x[k]).sum());
                 assert!(gs.iter().all(|x| x.abs() < 1e-13), "{e:?}: Σ∇φ = {gs:?}");
             }
+        }
+    }
+
+    /// The segment is the 1D tensor element: nodes left to right, basis nodal, quadrature exact
+    /// for x², its faces the two end points.
+    #[test]
+    fn the_segment_is_the_one_dimensional_tensor_element() {
+        for degree in [1, 2] {
+            let e = RefElement::segment(degree);
+            let x: Vec<f64> = (0..e.n_nodes()).map(|a| e.node(a)[0]).collect();
+            let want: Vec<f64> = (0..=degree).map(|k| k as f64 / degree as f64).collect();
+            assert_eq!(x, want);
+            for a in 0..e.n_nodes() {
+                let (v, g) = e.eval(e.node(a));
+                for (b, vb) in v.iter().enumerate() {
+                    assert!((vb - f64::from(a == b)).abs() < 1e-14);
+                }
+                assert!(g.iter().map(|x| x[0]).sum::<f64>().abs() < 1e-13);
+            }
+            let q = e.quadrature();
+            assert!((q.iter().map(|p| p.1).sum::<f64>() - 1.0).abs() < 1e-15);
+            let x2: f64 = q.iter().map(|p| p.1 * p.0[0] * p.0[0]).sum();
+            assert!((x2 - 1.0 / 3.0).abs() < 1e-15);
+            assert_eq!(e.vertices(), vec![0, degree]);
+            assert_eq!(e.faces(), vec![vec![0], vec![degree]]);
         }
     }
 

@@ -12,9 +12,11 @@
 //! - `σ_N = n·σ(u)n = σ_dd = λ div u + 2μ ∂_d u_d`, from the gradients of T's basis;
 //! - `h/E` with h the diameter of T (largest distance between its vertices).
 
+use super::discretisation::DofMap;
 use super::elasticity::Lame;
 use crate::element::geometry::{jacobian, physical};
 use crate::element::quadrature::gauss_legendre_01;
+use crate::element::segment::Segment;
 use crate::mesh::{Face, Mesh};
 use crate::problem::BoundaryPoint;
 use nalgebra::Vector3;
@@ -97,14 +99,21 @@ fn diameter(mesh: &Mesh, c: usize) -> f64 {
 }
 
 /// The quadrature points of the faces of Γ_C (in face order) for a body lifted by `lift` above
-/// the plane `x_d = 0`; `row` maps a Γ_C vertex to its contact row, dof `(i, c)` is `i·d + c`.
+/// the plane `x_d = 0`; `row` maps a Γ_C vertex to its contact row, `dofs` a node's components
+/// to their dofs.
 pub fn contact_points(
     mesh: &Mesh,
     faces: &[Face],
     lame: Lame,
     lift: f64,
-    row: &HashMap<usize, usize>,
+    (row, dofs): (&HashMap<usize, usize>, &DofMap),
 ) -> Vec<BoundaryPoint> {
+    if mesh.dim() == 1 {
+        return faces
+            .iter()
+            .map(|f| end_point(mesh, f, lame, lift, (row, dofs)))
+            .collect();
+    }
     let (el, d) = (mesh.element, mesh.dim());
     let young = lame.young();
     let mut points = Vec::new();
@@ -135,15 +144,17 @@ pub fn contact_points(
             for (a, &node) in cell.iter().enumerate() {
                 height += phi[a] * x[a][last];
                 if phi[a].abs() > ZERO {
-                    u_n.push((node * d + last, -phi[a]));
+                    if let Some(dof) = dofs.get(node, last) {
+                        u_n.push((dof, -phi[a]));
+                    }
                 }
                 for c in 0..d {
                     let mut s = lame.lambda * grad[a][c];
                     if c == last {
                         s += 2.0 * lame.mu * grad[a][last];
                     }
-                    if s != 0.0 {
-                        sigma_n.push((node * d + c, s));
+                    if let (true, Some(dof)) = (s != 0.0, dofs.get(node, c)) {
+                        sigma_n.push((dof, s));
                     }
                 }
             }
@@ -160,6 +171,44 @@ pub fn contact_points(
     points
 }
 
+/// The boundary "integral" at the end point `f` of a 1D body (unit cross-section): the point
+/// value, weight 1, with `σ_N = n·σ n = (λ + 2μ) u'` from the segment's basis (the bar's
+/// `E u'`, ν = 0) and `h/E` on the uniform length.
+fn end_point(
+    mesh: &Mesh,
+    f: &Face,
+    lame: Lame,
+    lift: f64,
+    (row, dofs): (&HashMap<usize, usize>, &DofMap),
+) -> BoundaryPoint {
+    let (el, h) = (mesh.element, mesh.h);
+    let seg = Segment { degree: el.degree };
+    let modulus = lame.lambda + 2.0 * lame.mu;
+    let a = f.local[0];
+    let xi = el.node(a)[0];
+    let cell = &mesh.connectivity[f.cell];
+    let node = cell[a];
+    BoundaryPoint {
+        weight: 1.0,
+        g0: mesh.nodes[node][0] + lift,
+        u_n: dofs
+            .get(node, 0)
+            .map(|dof| (dof, -1.0))
+            .into_iter()
+            .collect(),
+        sigma_n: cell
+            .iter()
+            .enumerate()
+            .filter_map(|(k, &i)| {
+                dofs.get(i, 0)
+                    .map(|dof| (dof, modulus * seg.derivative(k, xi) / h))
+            })
+            .collect(),
+        h_over_e: h / modulus,
+        vertices: vec![(row[&node], 1.0)],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -174,7 +223,8 @@ mod tests {
             .enumerate()
             .map(|(r, v)| (v.0, r))
             .collect();
-        contact_points(mesh, &faces, lame, lift, &row)
+        let dofs = DofMap::free(mesh.nodes.len(), mesh.dim());
+        contact_points(mesh, &faces, lame, lift, (&row, &dofs))
     }
 
     /// On the bottom of the unit box, for every element family: the weights sum to |Γ_C| = 1 and

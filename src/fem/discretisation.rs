@@ -12,8 +12,10 @@
 //! - the probe: the Γ_C vertex nearest the plane at t = 0 (ties: nearest the centre of Γ_C's
 //!   bounding box).
 
+use crate::element::segment::Segment;
 use crate::error::{Error, Result};
 use crate::fem::assembly::assemble;
+use crate::fem::assembly::{segment_mass, segment_mixed_mass, segment_stiffness};
 use crate::fem::boundary::contact_points;
 use crate::fem::elasticity::{
     element_mass, element_stiffness, mixed_matrices, stress, von_mises, Lame,
@@ -21,7 +23,7 @@ use crate::fem::elasticity::{
 use crate::fem::mass_model::{ElementMass, ElementMixed, MassModel, VelocitySpace};
 use crate::linalg::{SpMat, TripletBuilder};
 use crate::mesh::{ContactRule, Face, Mesh};
-use crate::problem::{Contact, ContactFace, Inertia, Probe};
+use crate::problem::{Contact, ContactFace, Inertia, Probe, Problem};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
@@ -41,21 +43,103 @@ pub struct Discretisation {
     pub contact_faces: Vec<Face>,
     /// The vertices of Γ_C (increasing node index) with their tributary length or area.
     pub contact_vertices: Vec<(usize, f64)>,
+    /// The dofs of the free nodes.
+    pub dofs: DofMap,
+}
+
+/// The dof map `(node i, component c) ↦ i·d + c`, renumbered without the fixed (clamped) nodes.
+#[derive(Debug, Clone)]
+pub struct DofMap {
+    d: usize,
+    of: Vec<Option<usize>>,
+    n: usize,
+}
+
+impl DofMap {
+    /// Every component of the nodes where `fixed` is true eliminated, the others numbered in
+    /// order.
+    fn new(d: usize, fixed: &[bool]) -> Self {
+        let mut n = 0;
+        let of = fixed
+            .iter()
+            .flat_map(|&f| std::iter::repeat(f).take(d))
+            .map(|f| {
+                (!f).then(|| {
+                    n += 1;
+                    n - 1
+                })
+            })
+            .collect();
+        Self { d, of, n }
+    }
+
+    /// Every component of `nodes` nodes free: dof `(i, c)` is `i·d + c`.
+    pub fn free(nodes: usize, d: usize) -> Self {
+        Self::new(d, &vec![false; nodes])
+    }
+
+    /// The dof of node i, component c (None: fixed).
+    pub fn get(&self, i: usize, c: usize) -> Option<usize> {
+        self.of[i * self.d + c]
+    }
+
+    /// Number of free dofs.
+    pub fn len(&self) -> usize {
+        self.n
+    }
+
+    /// True when every node is fixed.
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+}
+
+/// The initial state and load of a body, in the dof layout of its discretisation.
+#[derive(Debug, Clone)]
+pub struct Initial {
+    /// U₀.
+    pub displacement: Vec<f64>,
+    /// V₀.
+    pub velocity: Vec<f64>,
+    /// The body force: gravity `g ≥ 0` along `−e_d` (None: no load at all).
+    pub gravity: Option<f64>,
+    /// The gap between Γ_C and the plane at t = 0 (≥ 0).
+    pub lift: f64,
 }
 
 impl Discretisation {
-    /// Checks the mesh (no inverted or degenerate cell) and selects Γ_C by `rule`.
+    /// Checks the mesh (no inverted or degenerate cell; a 1D mesh uniform, every cell of length
+    /// `h`) and selects Γ_C by `rule`; every node free.
     pub fn new(mesh: Mesh, lame: Lame, density: f64, rule: ContactRule) -> Result<Self> {
         mesh.check()?;
+        if mesh.dim() == 1 {
+            check_uniform(&mesh)?;
+        }
         let contact_faces = mesh.contact_faces(rule)?;
         let contact_vertices = mesh.tributary(&contact_faces);
+        let dofs = DofMap::free(mesh.nodes.len(), mesh.dim());
         Ok(Self {
             mesh,
             lame,
             density,
             contact_faces,
             contact_vertices,
+            dofs,
         })
+    }
+
+    /// `self` with the nodes where `fixed(x)` holds clamped (u = 0, their dofs eliminated);
+    /// refuses to clamp a vertex of Γ_C.
+    pub fn clamped(mut self, fixed: impl Fn([f64; 3]) -> bool) -> Result<Self> {
+        let flags: Vec<bool> = self.mesh.nodes.iter().map(|&x| fixed(x)).collect();
+        if let Some(&(i, _)) = self.contact_vertices.iter().find(|v| flags[v.0]) {
+            return Err(Error::Mesh {
+                origin: self.mesh.origin.clone(),
+                message: format!("the clamped node {i} is a vertex of Γ_C"),
+            });
+        }
+        self.dofs = DofMap::new(self.dim(), &flags);
+        Ok(self)
     }
 
     /// Spatial dimension d.
@@ -65,12 +149,12 @@ impl Discretisation {
 
     /// Number of displacement dofs.
     pub fn n_dofs(&self) -> usize {
-        self.mesh.nodes.len() * self.dim()
+        self.dofs.len()
     }
 
-    /// Global dof of node i, component c.
+    /// Global dof of node i, component c, which is free (a Γ_C vertex or a body without clamp).
     fn dof(&self, i: usize, c: usize) -> usize {
-        i * self.dim() + c
+        self.dofs.get(i, c).unwrap_or(usize::MAX)
     }
 
     /// Global dofs of cell `c` per component.
@@ -79,10 +163,106 @@ impl Discretisation {
             .map(|comp| {
                 self.mesh.connectivity[c]
                     .iter()
-                    .map(|&i| Some(self.dof(i, comp)))
+                    .map(|&i| self.dofs.get(i, comp))
                     .collect()
             })
             .collect()
+    }
+
+    /// `v_i = f(x_i)` at every free dof (node i, component c ↦ `f(x_i)[c]`).
+    pub fn interpolate(&self, f: impl Fn([f64; 3]) -> [f64; 3]) -> Vec<f64> {
+        let mut v = vec![0.0; self.n_dofs()];
+        for (i, &x) in self.mesh.nodes.iter().enumerate() {
+            let value = f(x);
+            for (c, value) in value.iter().enumerate().take(self.dim()) {
+                if let Some(dof) = self.dofs.get(i, c) {
+                    v[dof] = *value;
+                }
+            }
+        }
+        v
+    }
+
+    /// The segment element of a 1D mesh and its (uniform) length.
+    fn segment(&self) -> (Segment, f64) {
+        (
+            Segment {
+                degree: self.mesh.element.degree,
+            },
+            self.mesh.h,
+        )
+    }
+
+    /// The modulus of 1D elasticity `σ = (λ + 2μ) u'` (E for a bar, whose ν is 0).
+    fn modulus_1d(&self) -> f64 {
+        self.lame.lambda + 2.0 * self.lame.mu
+    }
+
+    /// The element stiffness of cell `c` (1D: the segment's closed form on the uniform length).
+    fn cell_stiffness(&self, c: usize) -> DMatrix<f64> {
+        if self.dim() == 1 {
+            let (seg, h) = self.segment();
+            return segment_stiffness(seg, h, self.modulus_1d());
+        }
+        element_stiffness(&self.mesh.element, &self.mesh.cell_nodes(c), self.lame)
+    }
+
+    /// The scalar element mass of the cell with nodes `x`.
+    fn cell_mass(&self, x: &[[f64; 3]]) -> DMatrix<f64> {
+        if self.dim() == 1 {
+            let (seg, h) = self.segment();
+            return segment_mass(seg, h, self.density);
+        }
+        element_mass(&self.mesh.element, x, self.density)
+    }
+
+    /// `(C, B)` of the cell with nodes `x` for the degree-1 velocity space.
+    fn cell_mixed(&self, x: &[[f64; 3]]) -> (DMatrix<f64>, DMatrix<f64>) {
+        if self.dim() == 1 {
+            let (seg, h) = self.segment();
+            let p1 = Segment { degree: 1 };
+            return (
+                segment_mass(p1, h, self.density),
+                segment_mixed_mass(p1, seg, h, self.density),
+            );
+        }
+        mixed_matrices(&self.mesh.element, x, self.density)
+    }
+
+    /// The semi-discrete problem of this body with the inertia a space builds from its element
+    /// data (`inertia`, e.g. `|m| space.inertia(m)`), from `initial`. Gravitational energy is
+    /// measured from the plane: `−Fᵀ(x_d + lift) = m g (z_cm + lift)`.
+    pub fn problem(
+        &self,
+        inertia: impl FnOnce(&MassModel) -> Result<Box<dyn Inertia>>,
+        initial: &Initial,
+    ) -> Result<Problem> {
+        let d = self.dim();
+        let model = self.mass_model();
+        let inertia = inertia(&model)?;
+        let contact = self.contact(initial.lift)?;
+        let probe = self.probe(&contact, inertia.as_ref())?;
+        let (f, energy_shift) = match initial.gravity {
+            None => (vec![0.0; self.n_dofs()], 0.0),
+            Some(g) => {
+                let f = self.gravity_load(&model, g);
+                let shift = -(0..self.mesh.nodes.len())
+                    .filter_map(|i| self.dofs.get(i, d - 1).map(|dof| (i, dof)))
+                    .map(|(i, dof)| f[dof] * (self.mesh.nodes[i][d - 1] + initial.lift))
+                    .sum::<f64>();
+                (f, shift)
+            }
+        };
+        Ok(Problem {
+            k: self.stiffness()?,
+            f,
+            inertia,
+            contact,
+            u0: initial.displacement.clone(),
+            v0: initial.velocity.clone(),
+            probe,
+            energy_shift,
+        })
     }
 
     /// Index of every vertex in the velocity space H_h (degree-1 nodes, by node order), or None.
@@ -109,12 +289,11 @@ impl Discretisation {
         let local: Vec<(Vec<Option<usize>>, DMatrix<f64>)> = (0..mesh.connectivity.len())
             .into_par_iter()
             .map(|c| {
-                let k = element_stiffness(&mesh.element, &mesh.cell_nodes(c), self.lame);
                 let dofs = mesh.connectivity[c]
                     .iter()
-                    .flat_map(|&i| (0..d).map(move |comp| Some(i * d + comp)))
+                    .flat_map(|&i| (0..d).map(move |comp| self.dofs.get(i, comp)))
                     .collect();
-                (dofs, k)
+                (dofs, self.cell_stiffness(c))
             })
             .collect();
         assemble(
@@ -137,12 +316,12 @@ impl Discretisation {
         for (c, cell) in mesh.connectivity.iter().enumerate() {
             let x = mesh.cell_nodes(c);
             elements.push(ElementMass {
-                mass: element_mass(&el, &x, self.density),
+                mass: self.cell_mass(&x),
                 x: x.clone(),
                 dofs: self.cell_dofs(c),
             });
             if el.degree == 2 {
-                let (cm, bm) = mixed_matrices(&el, &x, self.density);
+                let (cm, bm) = self.cell_mixed(&x);
                 // Every local vertex is a mesh vertex by construction of `vertex_flags`.
                 let verts: Vec<usize> = map.iter().filter_map(|&a| vertex[cell[a]]).collect();
                 mixed.push(ElementMixed {
@@ -168,22 +347,32 @@ impl Discretisation {
             velocity: (el.degree == 2).then(|| VelocitySpace {
                 elements: mixed,
                 dim: nv * d,
-                dof_of: (0..self.n_dofs())
-                    .map(|dof| vertex[dof / d].map(|v| v * d + dof % d))
-                    .collect(),
+                dof_of: self.velocity_dofs(&vertex),
             }),
         }
     }
 
+    /// The H_h dof at the node of each displacement dof (`vertex`: the H_h index of each
+    /// vertex node).
+    fn velocity_dofs(&self, vertex: &[Option<usize>]) -> Vec<Option<usize>> {
+        let d = self.dim();
+        let mut of = vec![None; self.n_dofs()];
+        for (i, v) in vertex.iter().enumerate() {
+            for c in 0..d {
+                if let Some(dof) = self.dofs.get(i, c) {
+                    of[dof] = v.map(|v| v * d + c);
+                }
+            }
+        }
+        of
+    }
+
     /// The mass `∫ρ φ_i` of every node (row sums of the consistent element masses).
     pub fn nodal_masses(&self, model: &MassModel) -> Vec<f64> {
-        let d = self.dim();
         let mut w = vec![0.0; self.mesh.nodes.len()];
-        for e in &model.elements {
-            for (a, dof) in e.dofs[d - 1].iter().enumerate() {
-                if let Some(i) = dof {
-                    w[i / d] += e.mass.row(a).sum();
-                }
+        for (e, cell) in model.elements.iter().zip(&self.mesh.connectivity) {
+            for (a, &i) in cell.iter().enumerate() {
+                w[i] += e.mass.row(a).sum();
             }
         }
         w
@@ -194,7 +383,9 @@ impl Discretisation {
         let d = self.dim();
         let mut f = vec![0.0; self.n_dofs()];
         for (i, m) in self.nodal_masses(model).into_iter().enumerate() {
-            f[self.dof(i, d - 1)] = -gravity * m;
+            if let Some(dof) = self.dofs.get(i, d - 1) {
+                f[dof] = -gravity * m;
+            }
         }
         f
     }
@@ -246,7 +437,7 @@ impl Discretisation {
                 &self.contact_faces,
                 self.lame,
                 lift,
-                &row,
+                (&row, &self.dofs),
             )),
             force: None,
             normal: None,
@@ -355,11 +546,36 @@ impl Discretisation {
     }
 }
 
+/// Refuses a 1D mesh whose cells are not all of length `h` (relative 1e-12): the segment's
+/// element matrices are formed once on that length.
+fn check_uniform(mesh: &Mesh) -> Result<()> {
+    let el = mesh.element;
+    let (first, last) = (0, el.degree);
+    for (c, cell) in mesh.connectivity.iter().enumerate() {
+        let len = mesh.nodes[cell[last]][0] - mesh.nodes[cell[first]][0];
+        if (len.abs() - mesh.h).abs() > 1e-12 * mesh.h {
+            return Err(Error::Mesh {
+                origin: mesh.origin.clone(),
+                message: format!(
+                    "cell {c} has length {:.6e}: a 1D mesh must be uniform (h = {:.6e})",
+                    len.abs(),
+                    mesh.h
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// `∫_F ψ_a ψ_b` of the degree-1 hat functions of a straight face with vertices `x` (cyclic
 /// order): a segment `|F|/6 [2 1; 1 2]`, a triangle `|F|/12 (1 + δ_ab)`, a quadrilateral by 2 × 2
 /// Gauss points on its bilinear map (exact: the integrand is of degree 3 in each variable).
 fn face_mass(x: &[[f64; 3]]) -> Vec<f64> {
     let k = x.len();
+    if k == 1 {
+        // An end point of a 1D body: the point value.
+        return vec![1.0];
+    }
     let sub =
         |a: [f64; 3], b: [f64; 3]| nalgebra::Vector3::new(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
     match k {
@@ -441,5 +657,46 @@ mod tests {
             .iter()
             .zip(diag(&b))
             .all(|(x, y)| (x - y).abs() < 1e-14));
+    }
+
+    /// The 1D bar through the same discretisation: a clamped P2 interval has the assembled
+    /// closed-form stiffness of the segment (row sums of K vanish on the free interior, the
+    /// clamped node's dofs are gone), Γ_C is the end x = 0 with σ_N = E u' there, and the mesh
+    /// must be uniform; clamping Γ_C is refused.
+    #[test]
+    fn the_bar_is_a_clamped_interval_of_segments() {
+        let young = 3.0;
+        let lame = Lame {
+            lambda: 0.0,
+            mu: 0.5 * young,
+        };
+        let rule = ContactRule::Facing(FACING);
+        let mesh = crate::mesh::interval::interval(2.0, 4, 2).unwrap();
+        let fem = Discretisation::new(mesh.clone(), lame, 1.0, rule)
+            .unwrap()
+            .clamped(|x| x[0] == 2.0)
+            .unwrap();
+        assert_eq!(fem.n_dofs(), 8);
+        assert_eq!(fem.contact_vertices, vec![(0, 1.0)]);
+        let k = crate::linalg::to_dense(&fem.stiffness().unwrap());
+        // K·1 = 0 away from the clamped end (rigid translation).
+        for i in 0..6 {
+            assert!(k.row(i).sum().abs() < 1e-12, "row {i}");
+        }
+        let c = fem.contact(0.0).unwrap();
+        let sigma = &c.quadrature.unwrap()[0].sigma_n;
+        // u = x on the first element (h = 0.5): σ = E.
+        let s: f64 = sigma.iter().map(|&(j, v)| v * 0.25 * j as f64).sum();
+        assert!((s - young).abs() < 1e-12, "σ_N = {s}");
+        let err = Discretisation::new(mesh.clone(), lame, 1.0, rule)
+            .unwrap()
+            .clamped(|x| x[0] == 0.0)
+            .unwrap_err();
+        assert!(err.to_string().contains("Γ_C"), "{err}");
+        let mut skewed = mesh;
+        skewed.nodes[2][0] += 0.1;
+        skewed.nodes[1][0] += 0.05;
+        let err = Discretisation::new(skewed, lame, 1.0, rule).unwrap_err();
+        assert!(err.to_string().contains("uniform"), "{err}");
     }
 }

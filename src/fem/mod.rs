@@ -5,5 +5,5 @@ pub mod assembly;
 pub mod boundary;
 pub mod discretisation;
 pub mod elasticity;
-pub mod lagrange1d;
 pub mod mass_model;
+pub mod point_mass;

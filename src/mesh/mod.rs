@@ -1,6 +1,6 @@
-//! Meshes: a uniform subdivision of an interval (1D), and the [`Mesh`] of every 2D/3D case —
-//! structured boxes ([`structured`]), the curved bodies of the Hertz cases ([`curved`]) and Gmsh
-//! files ([`gmsh`]) all end up as one unstructured mesh of a single element family.
+//! Meshes: every case's body is one unstructured [`Mesh`] of a single element family — the
+//! uniform interval of the 1D bar ([`interval`]), structured boxes ([`structured`]), the curved
+//! bodies of the Hertz cases ([`curved`]) and Gmsh files ([`gmsh`]).
 
 pub mod curved;
 pub mod gmsh;
@@ -211,6 +211,8 @@ impl Mesh {
     ) -> Face {
         let x: Vec<[f64; 3]> = vertices.iter().map(|&i| self.nodes[i]).collect();
         let (measure, mut normal) = match (self.dim(), x.len()) {
+            // An end point of a 1D body of unit cross-section.
+            (1, _) => (1.0, [1.0, 0.0, 0.0]),
             (2, _) => {
                 let e = sub(x[1], x[0]);
                 (norm(e), [e[1], -e[0], 0.0])
