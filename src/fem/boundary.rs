@@ -12,7 +12,7 @@
 //! - `σ_N = n·σ(u)n = σ_dd = λ div u + 2μ ∂_d u_d`, from the gradients of T's basis;
 //! - `h/E` with h the diameter of T (largest distance between its vertices).
 
-use super::discretisation::DofMap;
+use super::dofs::DofMap;
 use super::elasticity::Lame;
 use crate::element::geometry::{jacobian, physical};
 use crate::element::quadrature::gauss_legendre_01;

@@ -17,6 +17,7 @@ use crate::error::{Error, Result};
 use crate::fem::assembly::assemble;
 use crate::fem::assembly::{segment_mass, segment_mixed_mass, segment_stiffness};
 use crate::fem::boundary::contact_points;
+pub use crate::fem::dofs::DofMap;
 use crate::fem::elasticity::{
     element_mass, element_stiffness, mixed_matrices, stress, von_mises, Lame,
 };
@@ -45,53 +46,6 @@ pub struct Discretisation {
     pub contact_vertices: Vec<(usize, f64)>,
     /// The dofs of the free nodes.
     pub dofs: DofMap,
-}
-
-/// The dof map `(node i, component c) ↦ i·d + c`, renumbered without the fixed (clamped) nodes.
-#[derive(Debug, Clone)]
-pub struct DofMap {
-    d: usize,
-    of: Vec<Option<usize>>,
-    n: usize,
-}
-
-impl DofMap {
-    /// Every component of the nodes where `fixed` is true eliminated, the others numbered in
-    /// order.
-    fn new(d: usize, fixed: &[bool]) -> Self {
-        let mut n = 0;
-        let of = fixed
-            .iter()
-            .flat_map(|&f| std::iter::repeat(f).take(d))
-            .map(|f| {
-                (!f).then(|| {
-                    n += 1;
-                    n - 1
-                })
-            })
-            .collect();
-        Self { d, of, n }
-    }
-
-    /// Every component of `nodes` nodes free: dof `(i, c)` is `i·d + c`.
-    pub fn free(nodes: usize, d: usize) -> Self {
-        Self::new(d, &vec![false; nodes])
-    }
-
-    /// The dof of node i, component c (None: fixed).
-    pub fn get(&self, i: usize, c: usize) -> Option<usize> {
-        self.of[i * self.d + c]
-    }
-
-    /// Number of free dofs.
-    pub fn len(&self) -> usize {
-        self.n
-    }
-
-    /// True when every node is fixed.
-    pub fn is_empty(&self) -> bool {
-        self.n == 0
-    }
 }
 
 /// The initial state and load of a body, in the dof layout of its discretisation.

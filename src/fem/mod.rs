@@ -4,6 +4,7 @@
 pub mod assembly;
 pub mod boundary;
 pub mod discretisation;
+pub mod dofs;
 pub mod elasticity;
 pub mod mass_model;
 pub mod point_mass;

@@ -9,9 +9,11 @@
 //! The normal contact stress reported is `σ_N = −λ / (tributary area)` (≤ 0).
 
 pub mod contact;
+pub mod energy;
 pub mod inertia;
 
 pub use contact::{BoundaryPoint, Contact, ContactEnergy, ContactFace, VertexMap};
+pub use energy::EnergyForm;
 pub use inertia::{Inertia, StepOperator};
 
 use crate::error::{Error, Result};
@@ -27,36 +29,6 @@ pub struct Probe {
     pub u_dof: usize,
     /// Velocity dof of the probe in the inertial variables.
     pub w_dof: usize,
-}
-
-/// The total energy `E = ½ vᵀ M v + ½ Uᵀ K U − Fᵀ U (+ shift)`, with `v` the inertial velocity
-/// (`C` in place of `M` for the mixed mass, v ∈ H_h), `M` (or `C`) and `K` stored as
-/// [`linalg::QuadraticForm`]s.
-#[derive(Debug)]
-pub struct EnergyForm {
-    kinetic: linalg::QuadraticForm,
-    stiffness: linalg::QuadraticForm,
-    /// F, when not zero.
-    load: Option<Vec<f64>>,
-    /// [`Problem::energy_shift`].
-    shift: f64,
-    /// The energy stored in the contact rows ([`Contact::energy`]).
-    contact: Vec<ContactEnergy>,
-    work: Vec<f64>,
-}
-
-impl EnergyForm {
-    /// `E = ½ vᵀ M v + ½ Uᵀ K U − Fᵀ U (+ shift)` (+ the energy of the contact rows).
-    pub fn energy(&mut self, u: &[f64], v: &[f64]) -> f64 {
-        0.5 * self.kinetic.eval(v, &mut self.work)
-            + 0.5 * self.stiffness.eval(u, &mut self.work)
-            + self.contact.iter().map(|b| b.eval(u)).sum::<f64>()
-            - self
-                .load
-                .as_ref()
-                .map_or(0.0, |f| linalg::dot_unordered(f, u))
-            + self.shift
-    }
 }
 
 /// `M Ü + K U = F − B_Nᵀ λ` with complementarity, and its initial data.

@@ -39,7 +39,7 @@ const PLOTTED: [(&str, &str); 8] = [
 fn reference_space(spaces: &[String]) -> &str {
     spaces
         .iter()
-        .find(|s| *s == "mass_redistribution")
+        .find(|s| *s == crate::space::REFERENCE)
         .unwrap_or(&spaces[0])
 }
 

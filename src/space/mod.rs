@@ -33,6 +33,10 @@ pub const SPACES: &[Entry<dyn Space>] = &[
     singular_dynamic::ENTRY,
 ];
 
+/// The space whose runs are the common reference of a sweep's convergence (when swept): mass
+/// redistribution, well posed and energy conserving (Khenous, Laborde, Renard 2008).
+pub const REFERENCE: &str = mass_redistribution::ENTRY.name;
+
 /// The names of the spaces, in registry order.
 pub fn names() -> Vec<&'static str> {
     crate::param::names(SPACES)

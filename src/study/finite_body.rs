@@ -99,7 +99,7 @@ pub fn finite_body(case: &dyn Case) -> Result<FiniteBody> {
 /// The static state of `case` under a uniform body force of total `force` towards the plane
 /// (standard mass, nodal contact, direct solver), by backward Euler steps of `dt` from rest.
 pub fn static_point(case: &dyn Case, impact: &Impact, force: f64, dt: f64) -> Result<StaticPoint> {
-    let space = crate::space::by_name("standard")?;
+    let space = crate::space::by_name(crate::space::standard::ENTRY.name)?;
     let mut problem = case.problem(space.as_ref())?;
     problem.v0.fill(0.0);
     problem.f.fill(0.0);

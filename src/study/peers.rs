@@ -130,7 +130,7 @@ pub struct Agreement {
 pub fn compare(peer: &PeerRun, peers_dir: &Path, cases_dir: &Path) -> Result<Agreement> {
     let reference = read_peer(&peers_dir.join(&peer.file))?;
     let mut o = Overrides {
-        space: Some("standard".into()),
+        space: Some(crate::space::standard::ENTRY.name.into()),
         scheme: Some("newmark".into()),
         elements: Some(peer.elements),
         cells: peer.cells.map(Into::into),

@@ -29,7 +29,7 @@ pub fn common_reference<'a>(group: impl Iterator<Item = &'a RunRecord> + Clone) 
     let space = group
         .clone()
         .map(|r| &r.summary.space)
-        .find(|s| *s == "mass_redistribution")
+        .find(|s| *s == crate::space::REFERENCE)
         .or_else(|| group.clone().map(|r| &r.summary.space).next())?
         .clone();
     let first = group.clone().next()?;
