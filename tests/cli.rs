@@ -178,7 +178,14 @@ fn sweep_writes_records_and_orders_for_every_combination() {
     let orders = std::fs::read_to_string(dir.path().join("orders.csv")).unwrap();
     // 7 schemes × 3 quick levels.
     assert_eq!(records.lines().count(), 1 + 7 * 3);
-    for scheme in dyncontact::param::names(dyncontact::time::SCHEMES) {
+    let swept = dyncontact::cases::load(Path::new("cases/spring_mass.toml"), &Default::default())
+        .unwrap()
+        .sweeps()[0]
+        .schemes
+        .iter()
+        .map(|s| s.scheme.clone())
+        .collect::<Vec<_>>();
+    for scheme in swept {
         assert!(
             orders
                 .lines()
