@@ -14,6 +14,7 @@
 pub mod backward_euler;
 pub mod central_difference;
 pub mod hht;
+pub mod laursen_chawla;
 pub mod moreau_jean;
 pub mod newmark;
 pub mod paoli_schatzman;
@@ -33,6 +34,7 @@ pub const SCHEMES: &[Entry<dyn Scheme>] = &[
     paoli_schatzman::ENTRY,
     moreau_jean::ENTRY,
     central_difference::ENTRY,
+    laursen_chawla::ENTRY,
 ];
 
 /// The registry entry of the scheme called `name`.
