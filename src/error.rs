@@ -15,6 +15,18 @@ pub enum Error {
         #[source]
         source: std::io::Error,
     },
+    /// The directory of case files cannot be read (run outside the repository).
+    #[error(
+        "no case files at {} ({source}): the case files (`*.toml`) ship in the `cases/` folder \
+         of the dyncontact repository; run from the repository's root, or give the folder: \
+         `dyncontact list DIR`, `dyncontact report --cases DIR`",
+        .dir.display()
+    )]
+    NoCaseDirectory {
+        dir: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
     /// The case file is not valid TOML or does not match the case schema.
     #[error("{path}: malformed case file: {message}")]
     CaseSyntax { path: PathBuf, message: String },

@@ -257,8 +257,9 @@ fn main_result(cli: Cli) -> Result<()> {
                 quick,
                 progress: true,
                 resume,
+                cases: Vec::new(),
             };
-            let records = dyncontact::report::report(&cases, &out, opts)?;
+            let records = dyncontact::report::report(&cases, &out, &opts)?;
             say!(
                 "{} runs; wrote {}/index.md and index.html",
                 records.len(),

@@ -103,6 +103,93 @@ fn quick_report_is_deterministic_resumable_and_indexed() {
     for table in ["summary.csv", "timings.csv", "orders.csv"] {
         assert!(index.contains(table), "{table} not described in index.md");
     }
+    check_page(&a);
+}
+
+/// The values of every `name="…"` attribute of `html`.
+fn attributes<'a>(html: &'a str, name: &str) -> Vec<&'a str> {
+    let key = format!(" {name}=\"");
+    html.match_indices(&key)
+        .map(|(k, _)| {
+            let rest = &html[k + key.len()..];
+            &rest[..rest.find('"').expect("closed attribute")]
+        })
+        .collect()
+}
+
+/// The text of `html` outside tags.
+fn text_content(html: &str) -> String {
+    let mut out = String::new();
+    let mut in_tag = false;
+    for c in html.chars() {
+        match c {
+            '<' => in_tag = true,
+            '>' => in_tag = false,
+            _ if !in_tag => out.push(c),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The rendered page of a report directory: no unrendered Markdown in the text, every link and
+/// image inside the directory and present (with its SVG), every `#anchor` an id of the page,
+/// the same links in `index.md`.
+fn check_page(dir: &Path) {
+    let html = read(&dir.join("index.html"));
+    let style_end = html.find("</style>").expect("a style element") + "</style>".len();
+    let text = text_content(&html[style_end..]);
+    for mark in ["`", "**", "](", "![", "\\_", "\\*", "_{"] {
+        let at = text
+            .find(mark)
+            .map(|k| &text[k.saturating_sub(80)..(k + 80).min(text.len())]);
+        assert!(
+            at.is_none(),
+            "unrendered markup {mark:?} in index.html: …{}…",
+            at.unwrap()
+        );
+    }
+    let ids: BTreeSet<&str> = attributes(&html, "id").into_iter().collect();
+    let mut targets: Vec<&str> = attributes(&html, "href");
+    let images = attributes(&html, "src");
+    targets.extend(&images);
+    assert!(targets.len() > 20, "{} links", targets.len());
+    for t in &targets {
+        if let Some(id) = t.strip_prefix('#') {
+            assert!(ids.contains(id), "link to #{id}: no such id");
+            continue;
+        }
+        assert!(
+            !t.contains("://") && !t.starts_with('/') && !t.contains(".."),
+            "{t}: points outside the report directory"
+        );
+        assert!(dir.join(t).exists(), "{t}: linked from index.html, missing");
+    }
+    for img in images {
+        let alt = html[html.find(img).unwrap()..]
+            .split("alt=\"")
+            .nth(1)
+            .unwrap();
+        assert!(
+            !alt.starts_with(img),
+            "{img}: its alt text is its file name"
+        );
+    }
+    for csv in std::fs::read_dir(dir).unwrap().filter_map(|e| e.ok()) {
+        let name = csv.file_name().to_string_lossy().to_string();
+        if name.ends_with(".csv") {
+            assert!(targets.contains(&name.as_str()), "{name} not linked");
+        }
+    }
+    let md = read(&dir.join("index.md"));
+    for (k, _) in md.match_indices("](") {
+        let target = &md[k + 2..k + 2 + md[k + 2..].find(')').unwrap()];
+        let ok = match target.strip_prefix('#') {
+            Some(id) => ids.contains(id),
+            None => dir.join(target).exists(),
+        };
+        assert!(ok, "index.md links to {target}, missing");
+    }
 }
 
 #[test]
@@ -141,5 +228,9 @@ fn shards_merge_into_the_orders_of_one_sweep() {
         lines(&one.join("orders.csv")),
         lines(&merged.join("orders.csv"))
     );
-    assert!(read(&merged.join("index.md")).contains("Observed orders: spring_mass"));
+    let index = read(&merged.join("index.md"));
+    assert!(
+        index.contains("## spring_mass") && index.contains("Observed orders, sweep `orders`"),
+        "{index}"
+    );
 }

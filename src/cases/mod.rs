@@ -291,6 +291,8 @@ pub struct CaseFile {
     pub path: PathBuf,
     /// [`crate::util::content_hash`] of its text (the study records' key).
     pub hash: String,
+    /// What the case is: the file's first comment line, up to a parenthesis or a full stop.
+    pub title: String,
     spec: Spec,
 }
 
@@ -332,8 +334,16 @@ impl CaseFile {
         Ok(Self {
             path: path.to_path_buf(),
             hash: crate::util::content_hash(text.as_bytes()),
+            title: title(&text),
             spec,
         })
+    }
+
+    /// The file's name without extension (`bar1d` for `cases/bar1d.toml`).
+    pub fn stem(&self) -> String {
+        self.path
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().to_string())
     }
 
     /// The validated case with `overrides` applied.
@@ -363,6 +373,36 @@ impl CaseFile {
             )?),
         })
     }
+}
+
+/// The case files (`*.toml`) of `dir`, sorted; an error saying where they are expected when
+/// `dir` cannot be read.
+pub fn case_paths(dir: &Path) -> Result<Vec<PathBuf>> {
+    let entries = std::fs::read_dir(dir).map_err(|source| Error::NoCaseDirectory {
+        dir: std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf()),
+        source,
+    })?;
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    Ok(files)
+}
+
+/// The first comment line of a case file, up to ` (`, `: ` or a full stop.
+fn title(text: &str) -> String {
+    let first = text
+        .lines()
+        .find_map(|l| l.trim().strip_prefix('#'))
+        .unwrap_or("")
+        .trim();
+    let end = [" (", ": ", ". "]
+        .iter()
+        .filter_map(|m| first.find(m))
+        .min()
+        .unwrap_or(first.len());
+    first[..end].trim_end_matches('.').to_string()
 }
 
 /// Reads, parses and validates a case file, applying `overrides`.

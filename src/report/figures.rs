@@ -1,38 +1,31 @@
 //! The report's figures: convergence plots per case × sweep × quantity, and energy and contact
 //! stress against time per case file.
 
-use super::Figure;
+use super::doc::Figure;
+use super::quantity::{named, Named};
 use crate::cases::sweep::HistorySpec;
 use crate::cases::{Case, CaseFile};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::output::plot::{loglog_plot, time_panels, time_plot, LogLog, Series, PALETTE};
 use crate::study::jobs::{RunRecord, Status};
-use crate::study::orders::{self, reference_slope};
-use crate::study::run::{run, RunResult, Summary};
+use crate::study::orders::{self, reference_slope, Order};
+use crate::study::run::{method_label, run, RunResult, Summary};
 use crate::study::trajectory::Row;
 use crate::util::{group_by, unique};
 use rayon::prelude::*;
 use std::path::Path;
 
-/// Plotted error quantities and their axis labels.
-const PLOTTED: [(&str, &str); 8] = [
-    ("err_u_linf_l2", "max_t ||u_h - u||_L2"),
-    ("err_energy", "max_t |E_h - E| / E"),
-    (
-        "err_sigma_l2",
-        "||sigma_h - sigma||_L2(0,T) at the contact point",
-    ),
-    ("impact_time_err", "first impact time error"),
-    ("err_contact_duration", "|t_c - Hertz| / Hertz"),
-    ("err_peak_force", "|F_max - Hertz| / Hertz"),
-    (
-        "err_contact_radius",
-        "|a - Hertz(F)| / Hertz(F) at peak force",
-    ),
-    (
-        "err_peak_pressure",
-        "|p0 - Hertz(F)| / Hertz(F) at peak force",
-    ),
+/// The quantities drawn against h (or dt): displacement, energy, contact stress, first impact
+/// time and the errors against Hertz.
+const PLOTTED: [&str; 8] = [
+    "err_u_linf_l2",
+    "err_energy",
+    "err_sigma_l2",
+    "impact_time_err",
+    "err_contact_duration",
+    "err_peak_force",
+    "err_contact_radius",
+    "err_peak_pressure",
 ];
 
 /// The space whose schemes are compared: mass redistribution when swept, else the first space.
@@ -43,36 +36,80 @@ fn reference_space(spaces: &[String]) -> &str {
         .unwrap_or(&spaces[0])
 }
 
-fn scheme_label(s: &Summary) -> String {
-    if s.parameters.is_empty() {
-        s.scheme.clone()
+/// What the curves of a figure of one space differ by: the scheme, or (one scheme) its
+/// contact formulation or parameters.
+fn variants_are(summaries: &[&Summary]) -> &'static str {
+    let schemes = unique(summaries.iter().map(|s| s.scheme.as_str()));
+    let contact = |s: &Summary| {
+        s.parameters
+            .split(';')
+            .filter(|p| p.starts_with("contact=") || p.starts_with("nitsche_"))
+            .collect::<Vec<_>>()
+            .join(";")
+    };
+    if schemes.len() > 1 {
+        "scheme"
+    } else if unique(summaries.iter().map(|s| contact(s))).len() > 1 {
+        "contact formulation"
     } else {
-        format!("{} ({})", s.scheme, s.parameters.replace(';', ", "))
+        "parameter set"
     }
 }
 
-/// Convergence plots of every case × sweep.
-pub fn convergence_figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figure>> {
+/// The largest relative difference between the curves at their common abscissae, when every
+/// curve has the abscissae of the first (None otherwise).
+fn spread(series: &[Series]) -> Option<f64> {
+    let first = series.first()?;
+    let mut worst = 0.0f64;
+    for s in &series[1..] {
+        if s.points.len() != first.points.len() {
+            return None;
+        }
+        for (a, b) in first.points.iter().zip(&s.points) {
+            if a.0 != b.0 {
+                return None;
+            }
+            worst = worst.max((a.1 - b.1).abs() / a.1.abs().max(b.1.abs()));
+        }
+    }
+    Some(worst)
+}
+
+/// Convergence plots of every case × sweep: one figure per quantity with every space (the
+/// sweep's first scheme), one with every scheme (the reference space); captions say what the
+/// errors are measured against (from `orders`).
+pub fn convergence_figures(
+    out: &Path,
+    records: &[RunRecord],
+    orders: &[Order],
+) -> Result<Vec<Figure>> {
     let mut figures = Vec::new();
     let groups = group_by(records, |r| (r.summary.case.clone(), r.sweep.clone()));
     for ((case, sweep), rs) in groups {
         let spaces = unique(rs.iter().map(|r| r.summary.space.clone()));
-        let schemes = unique(rs.iter().map(|r| scheme_label(&r.summary)));
+        let methods = unique(rs.iter().map(|r| r.summary.method()));
         let x_label = if rs[0].summary.h.is_finite() {
             "h"
         } else {
             "dt"
         };
         let reference = reference_space(&spaces).to_string();
-        for (quantity, y_label) in PLOTTED {
+        for quantity in PLOTTED {
             // The bar's first impact is a wave arrival, not a convergence measure.
             if quantity == "impact_time_err" && x_label == "h" {
                 continue;
             }
+            let Some(name) = named(quantity) else {
+                continue;
+            };
             let get = orders::quantities()
                 .find(|q| q.0 == quantity)
                 .map(|q| q.1)
                 .expect("plotted quantities are fitted quantities");
+            let against = orders
+                .iter()
+                .find(|o| o.case == case && o.sweep == sweep && o.quantity == quantity)
+                .map_or_else(String::new, |o| o.reference.clone());
             let series_of = |keep: &dyn Fn(&Summary) -> bool, label: String, k: usize| {
                 let pts: Vec<(f64, f64)> = rs
                     .iter()
@@ -87,74 +124,132 @@ pub fn convergence_figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figu
                     .collect();
                 (pts.len() >= 2).then(|| Series::solid(label, pts, PALETTE[k % PALETTE.len()]))
             };
-            let mut plot = |name: String, title: String, series: Vec<Series>, caption: String| {
-                if series.is_empty() {
-                    return Ok(());
-                }
-                let axes = LogLog {
-                    title: &title,
-                    x_label,
-                    y_label,
-                    slope: reference_slope(quantity),
-                };
-                loglog_plot(&out.join(&name), axes, &series)?;
-                figures.push(Figure {
-                    file: name,
-                    caption,
-                });
-                Ok::<(), Error>(())
+            let plot = ConvergencePlot {
+                out,
+                case: &case,
+                sweep: &sweep,
+                x_label,
+                name,
+                against: &against,
             };
             if spaces.len() > 1 {
-                let first = schemes[0].clone();
-                let series = spaces
+                let first = methods[0].clone();
+                let series: Vec<Series> = spaces
                     .iter()
                     .enumerate()
                     .filter_map(|(k, sp)| {
-                        series_of(
-                            &|s| s.space == *sp && scheme_label(s) == first,
-                            sp.clone(),
-                            k,
-                        )
+                        series_of(&|s| s.space == *sp && s.method() == first, sp.clone(), k)
                     })
                     .collect();
-                plot(
-                    format!("{case}_{sweep}_{quantity}_spaces.png"),
-                    format!("{case}: {quantity} vs {x_label}, {first}"),
+                figures.extend(plot.draw(
+                    "spaces",
+                    "space",
+                    &format!("all with {first}"),
                     series,
-                    format!("{case}: {y_label} against {x_label} for every space with {first}."),
-                )?;
+                )?);
             }
-            if schemes.len() > 1 {
-                let series = schemes
+            if methods.len() > 1 {
+                let of_reference: Vec<&Summary> = rs
+                    .iter()
+                    .map(|r| &r.summary)
+                    .filter(|s| s.space == reference)
+                    .collect();
+                let series: Vec<Series> = methods
                     .iter()
                     .enumerate()
-                    .filter_map(|(k, sc)| {
-                        series_of(
-                            &|s| s.space == reference && scheme_label(s) == *sc,
-                            sc.clone(),
-                            k,
-                        )
+                    .filter_map(|(k, m)| {
+                        series_of(&|s| s.space == reference && s.method() == *m, m.clone(), k)
                     })
                     .collect();
-                plot(
-                    format!("{case}_{sweep}_{quantity}_schemes.png"),
-                    format!("{case}: {quantity} vs {x_label}, {reference}"),
+                let what = variants_are(&of_reference);
+                figures.extend(plot.draw(
+                    "schemes",
+                    what,
+                    &format!("all with {reference}"),
                     series,
-                    format!(
-                        "{case}: {y_label} against {x_label} for every scheme with {reference}."
-                    ),
-                )?;
+                )?);
             }
         }
     }
     Ok(figures)
 }
 
-/// Energy and contact stress against time for a case file: its `[[history]]` tables (one panel
-/// per space, one curve per dt, the first only with `quick`: the seed paper's figures side by
-/// side), or by default the first sweep at its third level (first with `quick`) with every space
-/// for the first scheme, or every scheme when the sweep has one space. Failed runs are left out and named in the caption.
-/// (Curved-body impacts get their own figures, [`super::impact`].)
+/// One convergence figure's setting.
+struct ConvergencePlot<'a> {
+    out: &'a Path,
+    case: &'a str,
+    sweep: &'a str,
+    x_label: &'a str,
+    name: Named,
+    /// What the errors are measured against (`orders.csv`'s `reference`).
+    against: &'a str,
+}
+
+impl ConvergencePlot<'_> {
+    /// Draws `series` (one per `per`: space, scheme, …) as `<case>_<sweep>_<quantity>_<suffix>`;
+    /// nothing when there are none.
+    fn draw(
+        &self,
+        suffix: &str,
+        per: &str,
+        common: &str,
+        series: Vec<Series>,
+    ) -> Result<Option<Figure>> {
+        if series.is_empty() {
+            return Ok(None);
+        }
+        let (case, sweep, x, n) = (self.case, self.sweep, self.x_label, self.name);
+        let file = format!("{case}_{sweep}_{}_{suffix}.png", n.key);
+        let slope = reference_slope(n.key);
+        let title = format!("{case}: {} against {x}, {common}", n.symbol);
+        loglog_plot(
+            &self.out.join(&file),
+            LogLog {
+                title: &title,
+                x_label: x,
+                y_label: n.axis,
+                slope,
+            },
+            &series,
+        )?;
+        let labels: Vec<&str> = series.iter().map(|s| s.label.as_str()).collect();
+        let coincide = match spread(&series) {
+            Some(d) if series.len() > 1 && d < 1e-6 => format!(
+                " The {} curves coincide (largest relative difference {d:.1e}): the {per} does \
+                 not change this error here.",
+                series.len()
+            ),
+            _ => String::new(),
+        };
+        let against = if self.against.is_empty() {
+            String::new()
+        } else {
+            format!(", errors against {}", self.against)
+        };
+        Ok(Some(Figure {
+            file,
+            case: case.to_string(),
+            alt: format!(
+                "Log-log plot of {} against {x}, one curve with markers per {per} ({}), and a \
+                 dashed slope-{slope} triangle.",
+                n.axis,
+                labels.join(", ")
+            ),
+            caption: format!(
+                "{case}, sweep `{sweep}`: {} (`{}`{against}) against {x}, one curve per {per}, \
+                 {common}; a level is drawn when its run finished with a positive error. The \
+                 triangle has slope {slope}.{coincide}",
+                n.axis, n.key
+            ),
+        }))
+    }
+}
+
+/// Energy and contact stress against time for a case file without Hertz reference: its
+/// `[[history]]` tables (one panel per space, one curve per dt, the first only with `quick`:
+/// the seed paper's figures side by side), or by default the first sweep at its third level
+/// (first with `quick`) with every space for the first scheme, or every scheme when the sweep has
+/// one space. Failed runs are left out and named in the caption.
 pub fn time_histories(
     file: &CaseFile,
     case: &dyn Case,
@@ -172,7 +267,8 @@ pub fn time_histories(
     let sweep = &case.sweeps()[0];
     let levels = sweep.refinements(quick)?;
     let level = if quick { 0 } else { 2.min(levels.len() - 1) };
-    let combos: Vec<(String, usize)> = if sweep.spaces.len() > 1 {
+    let per_space = sweep.spaces.len() > 1;
+    let combos: Vec<(String, usize)> = if per_space {
         sweep.spaces.iter().map(|s| (s.clone(), 0)).collect()
     } else {
         (0..sweep.schemes.len())
@@ -183,12 +279,20 @@ pub fn time_histories(
         .par_iter()
         .map(|(space, k)| {
             let o = sweep.overrides(space, &sweep.schemes[*k], levels[level]);
-            let label = if sweep.spaces.len() > 1 {
-                space.clone()
-            } else {
-                sweep.schemes[*k].label()
-            };
-            (label, file.build(&o).and_then(|c| run(c.as_ref())))
+            match file.build(&o) {
+                Ok(c) => {
+                    let label = if per_space {
+                        space.clone()
+                    } else {
+                        c.run().parameters().map_or_else(
+                            |_| c.run().scheme.clone(),
+                            |p| method_label(&c.run().scheme, &p),
+                        )
+                    };
+                    (label, run(c.as_ref()))
+                }
+                Err(e) => (sweep.schemes[*k].label(), Err(e)),
+            }
         })
         .collect();
     let at = levels[level]
@@ -196,33 +300,52 @@ pub fn time_histories(
         .map_or(String::new(), |n| format!("{n} elements, "));
     let setting = format!("{at}dt = {}", levels[level].dt);
     let (runs, left_out) = split_failed(curves);
+    let common = match (per_space, runs.first()) {
+        (true, Some((_, r))) => format!(", all with {}", r.summary.method()),
+        (false, Some((_, r))) => format!(", all with {}", r.summary.space),
+        _ => String::new(),
+    };
+    let per = if per_space { "space" } else { "scheme" };
     let mut figures = Vec::new();
-    for (what, file, get) in QUANTITIES_VS_TIME {
-        let mut series = solid_curves(&runs, get.0);
-        if let Some((_, r)) = runs.first() {
-            let pts: Vec<(f64, f64)> = r
-                .rows
+    for q in VS_TIME {
+        let mut series = solid_curves(&runs, q.get);
+        let exact: Vec<(f64, f64)> = runs.first().map_or_else(Vec::new, |(_, r)| {
+            r.rows
                 .iter()
-                .filter_map(|x| x.exact.map(|e| (x.t, (get.1)(e))))
-                .collect();
-            if !pts.is_empty() {
-                series.push(Series::dashed("exact", pts, plotters::style::BLACK));
-            }
+                .filter_map(|x| x.exact.map(|e| (x.t, (q.exact)(e))))
+                .collect()
+        });
+        let has_exact = !exact.is_empty();
+        if has_exact {
+            series.push(Series::dashed("exact", exact, plotters::style::BLACK));
         }
         if series.is_empty() {
             continue;
         }
-        let name = format!("{kind}_{file}.png");
+        let name = format!("{kind}_{}.png", q.file);
         time_plot(
             &out.join(&name),
-            &format!("{kind}: {what}, {setting}"),
-            what,
+            &format!("{kind}: {}, {setting}", q.title),
+            q.axis,
             &series,
         )?;
+        let labels: Vec<&str> = series.iter().map(|s| s.label.as_str()).collect();
         figures.push(Figure {
             file: name,
+            case: kind.to_string(),
+            alt: format!(
+                "Line plot of {} against time t, one curve per {per} ({}).",
+                q.axis,
+                labels.join(", ")
+            ),
             caption: format!(
-                "{kind}: {what} at the contact point against time ({setting}), exact dashed.{left_out}"
+                "{kind}: {} against time ({setting}), one curve per {per}{common}{}.{left_out}",
+                q.what,
+                if has_exact {
+                    "; the exact solution dashed"
+                } else {
+                    ""
+                }
             ),
         });
     }
@@ -231,17 +354,41 @@ pub fn time_histories(
 
 /// A labelled run (or its failure).
 type Curve = (String, Result<RunResult>);
-/// Accessors of a time-series row and of the exact `(u, σ, E)`.
-type RowAccess = (fn(&Row) -> f64, fn((f64, f64, f64)) -> f64);
 
-/// Quantities plotted against time: description, file suffix, accessors.
-const QUANTITIES_VS_TIME: [(&str, &str, RowAccess); 2] = [
-    ("total energy", "energy", (|r| r.energy, |e| e.2)),
-    (
-        "contact stress",
-        "contact_stress",
-        (|r| r.sigma_contact, |e| e.1),
-    ),
+/// A quantity plotted against time.
+struct VsTime {
+    /// What it is, in captions.
+    what: &'static str,
+    /// In titles.
+    title: &'static str,
+    /// y-axis label.
+    axis: &'static str,
+    /// File suffix.
+    file: &'static str,
+    /// The computed value of a row.
+    get: fn(&Row) -> f64,
+    /// The exact value from `(u, σ, E)`.
+    exact: fn((f64, f64, f64)) -> f64,
+}
+
+/// Quantities plotted against time: the body's energy and the contact stress at the probe.
+const VS_TIME: [VsTime; 2] = [
+    VsTime {
+        what: "the total energy of the body (kinetic + elastic + potential of the loads)",
+        title: "total energy",
+        axis: "total energy E",
+        file: "energy",
+        get: |r| r.energy,
+        exact: |e| e.2,
+    },
+    VsTime {
+        what: "the contact stress σ_{n} at the contact probe (compression < 0)",
+        title: "contact stress at the probe",
+        axis: "contact stress σₙ at the probe",
+        file: "contact_stress",
+        get: |r| r.sigma_contact,
+        exact: |e| e.1,
+    },
 ];
 
 /// One solid curve of `get` against time per labelled run, in palette order.
@@ -315,29 +462,41 @@ fn history_panels(
     } else {
         format!("_{}", h.name)
     };
-    let scheme = h.scheme.label();
+    let scheme = panels_runs
+        .iter()
+        .find_map(|(_, runs)| runs.first())
+        .map_or_else(|| h.scheme.label(), |(_, r)| r.summary.method());
+    let dts: Vec<String> = dts.iter().map(|d| d.to_string()).collect();
     let mut figures = Vec::new();
-    for (what, file, get) in QUANTITIES_VS_TIME {
+    for q in VS_TIME {
         let panels: Vec<(String, Vec<Series>)> = panels_runs
             .iter()
             .filter(|(_, runs)| !runs.is_empty())
-            .map(|(space, runs)| (format!("{kind}: {space}"), solid_curves(runs, get.0)))
+            .map(|(space, runs)| (format!("{kind}: {space}"), solid_curves(runs, q.get)))
             .collect();
         if panels.is_empty() {
             continue;
         }
-        let name = format!("{kind}{suffix}_{file}.png");
-        time_panels(&out.join(&name), what, &panels)?;
+        let name = format!("{kind}{suffix}_{}.png", q.file);
+        time_panels(&out.join(&name), q.axis, &panels)?;
+        let spaces: Vec<&str> = panels.iter().map(|p| &p.0[kind.len() + 2..]).collect();
         figures.push(Figure {
             file: name,
+            case: kind.to_string(),
+            alt: format!(
+                "{} line plots side by side, one per space ({}), of {} against time t, one \
+                 curve per time step ({}).",
+                panels.len(),
+                spaces.join(", "),
+                q.axis,
+                dts.join(", ")
+            ),
             caption: format!(
-                "{kind}: {what} at the centre of the contact face against time, {scheme}, one \
-                 panel per space ({}), one curve per dt ({}).{notes}",
-                h.spaces.join(", "),
-                dts.iter()
-                    .map(|d| d.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                "{kind}: {} against time, {scheme}, one panel per space ({}), one curve per dt \
+                 ({}); the probe is the centre of the contact face.{notes}",
+                q.what,
+                spaces.join(", "),
+                dts.join(", ")
             ),
         });
     }

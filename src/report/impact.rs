@@ -12,7 +12,7 @@
 //! - `<case>_pressure_map.png` (3D): the Γ_C faces within two contact radii, seen from the
 //!   plane, coloured by the mean pressure of their vertices at peak force.
 
-use super::Figure;
+use super::doc::Figure;
 use crate::cases::{CaseFile, Impact, Overrides};
 use crate::error::{Error, Result};
 use crate::fem::discretisation::Discretisation;
@@ -56,8 +56,11 @@ pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Fi
     };
     let s = &r.summary;
     let setting = format!(
-        "{} + {} ({}), h = {:.3e}, dt = {}",
-        s.space, s.scheme, s.parameters, s.h, s.dt
+        "{} + {}, h = {:.3e}, dt = {}",
+        s.space,
+        s.method(),
+        s.h,
+        s.dt
     );
     let finite = if impact.hertz.dim == 3 {
         let f = finite_body(case.as_ref())?;
@@ -136,8 +139,8 @@ impl Shot<'_> {
                     ". Errors of (t_c, F_max, δ_max): against Hertz {}; against Hertz for the \
                      mesh's mass ({:.4}) {}; against the quasi-static impact of the body's own \
                      static law δ(F) = (F/k)^(2/3) − c F/(E* R), c = {:.4} (static solves in \
-                     {kind}_finite_body.csv), {}: what Hertz's half-space misses is the finite \
-                     body, the rest is the dynamics",
+                     [{kind}_finite_body.csv]({kind}_finite_body.csv)), {}: what Hertz's \
+                     half-space misses is the finite body, the rest is the dynamics",
                     pct(m.errors(&impact.hertz)),
                     f.half_space.mass,
                     pct(m.errors(&f.half_space)),
@@ -147,10 +150,16 @@ impl Shot<'_> {
             }
             _ => String::new(),
         };
+        let labels: Vec<&str> = series.iter().map(|s| s.label.as_str()).collect();
         Ok(Figure {
             file: name,
+            case: kind.to_string(),
+            alt: format!(
+                "Line plot of the total contact force against time t: {}.",
+                labels.join("; ")
+            ),
             caption: format!(
-                "{kind}: total contact force against time ({setting}){}{decomposition}.",
+                "{kind}: total contact force Σλ against time ({setting}){}{decomposition}.",
                 if hertz.is_some() {
                     ", Hertz's quasi-static force history dashed"
                 } else {
@@ -191,7 +200,7 @@ impl Shot<'_> {
                 "distance from the contact centre",
                 "contact pressure",
             ),
-            ("computed (Γ_C vertices)", &points),
+            ("computed (contact vertices)", &points),
             &[Series::dashed(
                 format!("Hertz for F = {force:.4e}: a = {a:.4}, p0 = {p0:.4}"),
                 profile,
@@ -200,9 +209,19 @@ impl Shot<'_> {
         )?;
         Ok(Figure {
             file: name,
+            case: kind.to_string(),
+            alt: format!(
+                "Scatter plot of the contact pressure of {} contact vertices against their \
+                 distance from the contact centre, with Hertz's half-ellipse profile dashed \
+                 (a = {a:.4}, p0 = {p0:.4}).",
+                points.len()
+            ),
             caption: format!(
-                "{kind}: pressure of every Γ_C vertex at peak force against its distance from the \
-             contact centre ({setting}), Hertz's profile for the computed force dashed."
+                "{kind}: pressure λ/area of every Γ_{{C}} vertex at peak force (t = {:.3}) against \
+                 its distance from the centre of pressure ({setting}); Hertz's profile \
+                 p₀ √(1 − r²/a²) for the computed force F = {force:.4e} dashed (a = {a:.4}, \
+                 p₀ = {p0:.4}).",
+                peak.t
             ),
         })
     }
@@ -250,13 +269,22 @@ impl Shot<'_> {
             &cells,
         )?;
         Ok(Figure {
-        file: name,
-        caption: format!(
-            "{kind}: the body within {ZOOM} contact half-widths of the contact at peak force, \
-             deformed at true scale and coloured by the von Mises stress at each cell's centroid \
-             ({setting}); Hertz's line contact puts the largest shear stress, 0.30 p0, at a depth 0.78 b."
-        ),
-    })
+            file: name,
+            case: kind.to_string(),
+            alt: format!(
+                "Map of the deformed disc near the contact, x horizontal and height y vertical \
+                 on equal scales, {} cells coloured by the von Mises stress on a viridis scale.",
+                cells.len()
+            ),
+            caption: format!(
+                "{kind}: the body within {ZOOM} contact half-widths of the contact at peak force \
+                 (t = {:.3}), deformed at true scale, x horizontal and the height y above the \
+                 plane vertical on equal scales, each cell coloured by the von Mises stress at \
+                 its centroid ({setting}); Hertz's line contact puts the largest shear stress, \
+                 0.30 p₀, at a depth 0.78 b.",
+                peak.t
+            ),
+        })
     }
 
     fn pressure_map(&self) -> Result<Figure> {
@@ -285,20 +313,28 @@ impl Shot<'_> {
         cell_map(
             &self.out.join(&name),
             &format!(
-                "{kind}: contact pressure on Γ_C at peak force (t = {:.3})",
+                "{kind}: contact pressure on the contact boundary at peak force (t = {:.3})",
                 peak.t
             ),
             "contact pressure",
             &cells,
         )?;
+        let a = impact.hertz.contact_radius(force);
         Ok(Figure {
             file: name,
+            case: kind.to_string(),
+            alt: format!(
+                "Map of {} contact faces seen from the plane, x and y on equal scales, coloured \
+                 by the contact pressure on a viridis scale, with Hertz's contact circle of \
+                 radius {a:.4} drawn dashed.",
+                cells.len()
+            ),
             caption: format!(
-                "{kind}: the Γ_C faces within two Hertz contact radii of the contact centre, seen \
-                 from the plane (undeformed x, y), coloured by the mean pressure of their vertices \
-                 at peak force ({}); Hertz's contact is the disc of radius {:.4}.",
-                self.setting,
-                impact.hertz.contact_radius(force)
+                "{kind}: the Γ_{{C}} faces within two Hertz contact radii of the centre of \
+                 pressure, seen from the plane (undeformed x, y on equal scales), coloured by the \
+                 mean pressure of their vertices at peak force (t = {:.3}; {}); the dashed \
+                 circle is Hertz's contact, radius a = {a:.4} for the computed force.",
+                peak.t, self.setting
             ),
         })
     }

@@ -13,9 +13,11 @@
 //! `dyncontact merge` rebuilds the same files (without the time histories, which need the time
 //! series) from record files written by `dyncontact sweep --shard i/n`.
 
+pub mod doc;
 pub mod figures;
 pub mod impact;
 pub mod index;
+pub mod quantity;
 
 use crate::cases::{self, CaseFile};
 use crate::error::{Error, Result};
@@ -25,21 +27,14 @@ use crate::study::orders;
 use crate::study::peers::{self, Agreement};
 use crate::study::records::{read_records, write_records, write_timings};
 use crate::study::reference;
+use doc::Figure;
 use figures::{convergence_figures, time_histories};
+use index::CaseEntry;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// A figure of the report: file name (in the output directory) and what it shows.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Figure {
-    /// File name.
-    pub file: String,
-    /// One sentence on what it shows.
-    pub caption: String,
-}
-
 /// Report settings.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct Options {
     /// Only the first `quick_levels` levels of every sweep.
     pub quick: bool,
@@ -47,18 +42,14 @@ pub struct Options {
     pub progress: bool,
     /// Skip the runs already in `journal.csv` of the output directory.
     pub resume: bool,
+    /// Only these cases (a case file's name without `.toml`, or its `case` kind); all when empty.
+    pub cases: Vec<String>,
 }
 
 /// Case files with `[[sweep]]` tables in `dir`, sorted by name, each read and parsed once.
 pub fn case_files(dir: &Path) -> Result<Vec<Arc<CaseFile>>> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| Error::io(dir, e))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
     let mut out = Vec::new();
-    for f in files {
+    for f in cases::case_paths(dir)? {
         let file = CaseFile::read(&f)?;
         if !file
             .build(&cases::Overrides::default())?
@@ -71,10 +62,65 @@ pub fn case_files(dir: &Path) -> Result<Vec<Arc<CaseFile>>> {
     Ok(out)
 }
 
-/// Runs every sweep of the case files in `cases_dir` and writes the report into `out`.
-pub fn report(cases_dir: &Path, out: &Path, opts: Options) -> Result<Vec<RunRecord>> {
+/// The case files named in `names` (file stem or case kind; every file when `names` is empty),
+/// or an error naming a name that matches none.
+fn select(files: Vec<Arc<CaseFile>>, names: &[String], dir: &Path) -> Result<Vec<Arc<CaseFile>>> {
+    if names.is_empty() {
+        return Ok(files);
+    }
+    let kind = |f: &CaseFile| f.build(&Default::default()).map(|c| c.kind());
+    for n in names {
+        if !files
+            .iter()
+            .any(|f| f.stem() == *n || kind(f).is_ok_and(|k| k == n))
+        {
+            let known: Vec<String> = files.iter().map(|f| f.stem()).collect();
+            return Err(Error::invalid(
+                "--case",
+                n,
+                &format!(
+                    "no case file with [[sweep]] tables of that name in {}; known: {}",
+                    dir.display(),
+                    known.join(", ")
+                ),
+            ));
+        }
+    }
+    Ok(files
+        .into_iter()
+        .filter(|f| {
+            names
+                .iter()
+                .any(|n| f.stem() == *n || kind(f).is_ok_and(|k| k == n))
+        })
+        .collect())
+}
+
+/// Copies the case files into `out/cases/` (the index links them there) and returns their
+/// entries.
+fn copy_cases(files: &[Arc<CaseFile>], out: &Path) -> Result<Vec<CaseEntry>> {
+    let dir = out.join("cases");
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    files
+        .iter()
+        .map(|f| {
+            let name = format!("{}.toml", f.stem());
+            let to = dir.join(&name);
+            std::fs::copy(&f.path, &to).map_err(|e| Error::io(&to, e))?;
+            Ok(CaseEntry {
+                kind: f.build(&Default::default())?.kind().to_string(),
+                title: f.title.clone(),
+                file: Some(format!("cases/{name}")),
+            })
+        })
+        .collect()
+}
+
+/// Runs every sweep of the case files in `cases_dir` (those of `opts.cases` only, when given) and
+/// writes the report into `out`.
+pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRecord>> {
+    let files = select(case_files(cases_dir)?, &opts.cases, cases_dir)?;
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
-    let files = case_files(cases_dir)?;
     let mut all = Vec::new();
     for f in &files {
         all.extend(jobs::jobs(f, opts.quick)?);
@@ -94,9 +140,13 @@ pub fn report(cases_dir: &Path, out: &Path, opts: Options) -> Result<Vec<RunReco
         .parent()
         .unwrap_or(Path::new(""))
         .join("golden/peers");
-    let agreements = peers::compare_all(&peers_dir, cases_dir)?;
-    peers::write_cross_code(&out.join("cross_code.csv"), &agreements)?;
-    write(out, &records, figures, &agreements, opts.quick)?;
+    let stems: Vec<String> = files.iter().map(|f| f.stem()).collect();
+    let agreements = peers::compare_all(&peers_dir, cases_dir, &stems)?;
+    if !agreements.is_empty() {
+        peers::write_cross_code(&out.join("cross_code.csv"), &agreements)?;
+    }
+    let cases = copy_cases(&files, out)?;
+    write(out, &records, figures, &agreements, (&cases, opts.quick))?;
     Ok(records)
 }
 
@@ -107,7 +157,15 @@ pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
     for f in files {
         records.extend(read_records(f)?);
     }
-    write(out, &records, Vec::new(), &[], false)?;
+    let cases: Vec<CaseEntry> = crate::util::unique(records.iter().map(|r| r.summary.case.clone()))
+        .into_iter()
+        .map(|kind| CaseEntry {
+            kind,
+            title: String::new(),
+            file: None,
+        })
+        .collect();
+    write(out, &records, Vec::new(), &[], (&cases, false))?;
     Ok(records)
 }
 
@@ -116,12 +174,22 @@ fn write(
     records: &[RunRecord],
     mut figures: Vec<Figure>,
     peers: &[Agreement],
-    quick: bool,
+    (cases, quick): (&[CaseEntry], bool),
 ) -> Result<()> {
     write_records(&out.join("summary.csv"), records, false)?;
     write_timings(&out.join("timings.csv"), records)?;
     let orders = orders::orders(records);
     orders::write_orders(&out.join("orders.csv"), &orders)?;
-    figures.splice(0..0, convergence_figures(out, records)?);
-    index::write_index(out, records, &orders, &figures, peers, quick)
+    figures.splice(0..0, convergence_figures(out, records, &orders)?);
+    index::write_index(
+        out,
+        &index::Contents {
+            records,
+            orders: &orders,
+            figures: &figures,
+            peers,
+            cases,
+            quick,
+        },
+    )
 }

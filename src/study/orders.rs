@@ -134,7 +134,7 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
                 .find(|(k, _)| *k == (case.clone(), sweep.clone()))
                 .and_then(|(_, c)| c.as_ref())
                 .map_or_else(String::new, |(sp, sc, pa)| {
-                    format!("{sp} {sc} ({pa}) finest level")
+                    format!("{sp} {} finest level", super::run::method_label(sc, pa))
                 })
         };
         for (quantity, get) in quantities() {

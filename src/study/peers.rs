@@ -201,14 +201,18 @@ fn pair_samples<'a>(
         .collect()
 }
 
-/// Every run of [`getfem_runs`], compared in parallel; none when `peers_dir` does not exist.
-pub fn compare_all(peers_dir: &Path, cases_dir: &Path) -> Result<Vec<Agreement>> {
+/// Every run of [`getfem_runs`] whose case file is one of `stems` (`bar1d` for `bar1d.toml`),
+/// compared in parallel; none when `peers_dir` does not exist.
+pub fn compare_all(peers_dir: &Path, cases_dir: &Path, stems: &[String]) -> Result<Vec<Agreement>> {
     use rayon::prelude::*;
     if !peers_dir.is_dir() {
         return Ok(Vec::new());
     }
-    getfem_runs()
-        .par_iter()
+    let runs: Vec<PeerRun> = getfem_runs()
+        .into_iter()
+        .filter(|r| stems.iter().any(|s| r.case == format!("{s}.toml")))
+        .collect();
+    runs.par_iter()
         .map(|r| compare(r, peers_dir, cases_dir))
         .collect()
 }

@@ -45,6 +45,23 @@ pub struct Summary {
     pub metrics: Metrics,
 }
 
+/// A scheme with its parameters as every output writes it: `newmark (beta=0.5;gamma=0.5)`, the
+/// `parameters` column of the records in parentheses (the scheme alone when it has none).
+pub fn method_label(scheme: &str, parameters: &str) -> String {
+    if parameters.is_empty() {
+        scheme.to_string()
+    } else {
+        format!("{scheme} ({parameters})")
+    }
+}
+
+impl Summary {
+    /// [`method_label`] of this run.
+    pub fn method(&self) -> String {
+        method_label(&self.scheme, &self.parameters)
+    }
+}
+
 /// The state at the sample of largest total contact force (impact cases).
 #[derive(Debug, Clone, Default)]
 pub struct Peak {
