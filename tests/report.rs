@@ -166,6 +166,8 @@ fn check_page(dir: &Path) {
         assert!(dir.join(t).exists(), "{t}: linked from index.html, missing");
     }
     for img in images {
+        let svg = img.replace(".png", ".svg");
+        assert!(dir.join(&svg).exists(), "{svg} missing beside {img}");
         let alt = html[html.find(img).unwrap()..]
             .split("alt=\"")
             .nth(1)

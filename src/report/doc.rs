@@ -384,10 +384,11 @@ impl Doc {
                 Block::Figure(n, f) => {
                     let _ = writeln!(
                         md,
-                        "![{}]({})\n\n*Figure {n}.* {}\n",
+                        "![{}]({})\n\n*Figure {n}.* {} ([SVG]({}))\n",
                         escape_md(&f.alt, false),
                         f.file,
                         Rich::parse(&f.caption).markdown(false),
+                        f.svg()
                     );
                 }
                 Block::Contents => {
@@ -430,10 +431,11 @@ impl Doc {
                     let _ = writeln!(
                         h,
                         "<figure id=\"figure-{n}\"><a href=\"{png}\"><img src=\"{png}\" alt=\"{}\" \
-                         loading=\"lazy\"></a><figcaption><strong>Figure {n}.</strong> {}\
-                         </figcaption></figure>",
+                         loading=\"lazy\"></a><figcaption><strong>Figure {n}.</strong> {} \
+                         (<a href=\"{}\">SVG</a>)</figcaption></figure>",
                         escape(&f.alt),
                         Rich::parse(&f.caption).html(),
+                        escape(&f.svg()),
                         png = escape(&f.file),
                     );
                 }

@@ -3,10 +3,12 @@
 
 use super::doc::Figure;
 use super::quantity::{named, Named};
+use super::style;
 use crate::cases::sweep::HistorySpec;
 use crate::cases::{Case, CaseFile};
 use crate::error::Result;
-use crate::output::plot::{loglog_plot, time_panels, time_plot, LogLog, Series, PALETTE};
+use crate::output::plot::{loglog_plot, time_panels, time_plot, LogLog, Series, Style};
+use crate::study::jobs::BLOWUP_FACTOR;
 use crate::study::jobs::{RunRecord, Status};
 use crate::study::orders::{self, reference_slope, Order};
 use crate::study::run::{method_label, run, RunResult, Summary};
@@ -54,6 +56,39 @@ fn variants_are(summaries: &[&Summary]) -> &'static str {
     } else {
         "parameter set"
     }
+}
+
+/// The contact formulation of a run (the `contact=` of its parameters; `nodal` by default).
+fn contact_of(s: &Summary) -> &str {
+    s.parameters
+        .split(';')
+        .find_map(|p| p.strip_prefix("contact="))
+        .unwrap_or(crate::contact::DEFAULT_FORMULATION)
+}
+
+/// Each method of `summaries` (in order) with its style: by scheme, or by contact formulation
+/// when that is what differs (`what`, from [`variants_are`]); the k-th parameter set of one
+/// scheme or formulation gets its k-th variant.
+fn method_styles(summaries: &[&Summary], what: &str) -> Vec<(String, Style)> {
+    let methods = unique(
+        summaries
+            .iter()
+            .map(|s| (s.method(), s.scheme.clone(), contact_of(s).to_string())),
+    );
+    methods
+        .iter()
+        .enumerate()
+        .map(|(k, (m, scheme, contact))| {
+            let style = if what == "contact formulation" {
+                let variant = methods[..k].iter().filter(|x| x.2 == *contact).count();
+                style::formulation(contact, variant)
+            } else {
+                let variant = methods[..k].iter().filter(|x| x.1 == *scheme).count();
+                style::scheme(scheme, variant)
+            };
+            (m.clone(), style)
+        })
+        .collect()
 }
 
 /// The largest relative difference between the curves at their common abscissae, when every
@@ -110,7 +145,7 @@ pub fn convergence_figures(
                 .iter()
                 .find(|o| o.case == case && o.sweep == sweep && o.quantity == quantity)
                 .map_or_else(String::new, |o| o.reference.clone());
-            let series_of = |keep: &dyn Fn(&Summary) -> bool, label: String, k: usize| {
+            let series_of = |keep: &dyn Fn(&Summary) -> bool, label: String, style: Style| {
                 let pts: Vec<(f64, f64)> = rs
                     .iter()
                     .filter(|r| r.status == Status::Ok && keep(&r.summary))
@@ -122,7 +157,7 @@ pub fn convergence_figures(
                             .map(|e| (x, e))
                     })
                     .collect();
-                (pts.len() >= 2).then(|| Series::solid(label, pts, PALETTE[k % PALETTE.len()]))
+                (pts.len() >= 2).then(|| Series::new(label, pts, style))
             };
             let plot = ConvergencePlot {
                 out,
@@ -136,9 +171,9 @@ pub fn convergence_figures(
                 let first = methods[0].clone();
                 let series: Vec<Series> = spaces
                     .iter()
-                    .enumerate()
-                    .filter_map(|(k, sp)| {
-                        series_of(&|s| s.space == *sp && s.method() == first, sp.clone(), k)
+                    .filter_map(|sp| {
+                        let keep = |s: &Summary| s.space == *sp && s.method() == first;
+                        series_of(&keep, sp.clone(), style::space(sp))
                     })
                     .collect();
                 figures.extend(plot.draw(
@@ -154,14 +189,14 @@ pub fn convergence_figures(
                     .map(|r| &r.summary)
                     .filter(|s| s.space == reference)
                     .collect();
-                let series: Vec<Series> = methods
-                    .iter()
-                    .enumerate()
-                    .filter_map(|(k, m)| {
-                        series_of(&|s| s.space == reference && s.method() == *m, m.clone(), k)
+                let what = variants_are(&of_reference);
+                let series: Vec<Series> = method_styles(&of_reference, what)
+                    .into_iter()
+                    .filter_map(|(m, style)| {
+                        let keep = |s: &Summary| s.space == reference && s.method() == m;
+                        series_of(&keep, m.clone(), style)
                     })
                     .collect();
-                let what = variants_are(&of_reference);
                 figures.extend(plot.draw(
                     "schemes",
                     what,
@@ -206,7 +241,11 @@ impl ConvergencePlot<'_> {
             &self.out.join(&file),
             LogLog {
                 title: &title,
-                x_label: x,
+                x_label: if x == "h" {
+                    "mesh size h"
+                } else {
+                    "time step dt"
+                },
                 y_label: n.axis,
                 slope,
             },
@@ -308,7 +347,18 @@ pub fn time_histories(
     let per = if per_space { "space" } else { "scheme" };
     let mut figures = Vec::new();
     for q in VS_TIME {
-        let mut series = solid_curves(&runs, q.get);
+        let mut series = time_curves(&runs, q.get, |k| {
+            let s = &runs[k].1.summary;
+            if per_space {
+                style::space(&s.space)
+            } else {
+                let variant = runs[..k]
+                    .iter()
+                    .filter(|r| r.1.summary.scheme == s.scheme)
+                    .count();
+                style::scheme(&s.scheme, variant)
+            }
+        });
         let exact: Vec<(f64, f64)> = runs.first().map_or_else(Vec::new, |(_, r)| {
             r.rows
                 .iter()
@@ -317,7 +367,7 @@ pub fn time_histories(
         });
         let has_exact = !exact.is_empty();
         if has_exact {
-            series.push(Series::dashed("exact", exact, plotters::style::BLACK));
+            series.push(Series::reference("exact", exact));
         }
         if series.is_empty() {
             continue;
@@ -392,12 +442,23 @@ const VS_TIME: [VsTime; 2] = [
 ];
 
 /// One solid curve of `get` against time per labelled run, in palette order.
-fn solid_curves(runs: &[(String, RunResult)], get: fn(&Row) -> f64) -> Vec<Series> {
+/// One curve of `get` against time per labelled run, styled by `style(k)`; a run whose energy
+/// exceeded [`BLOWUP_FACTOR`] × E(0) is marked diverged (drawn clipped, said in its label).
+fn time_curves(
+    runs: &[(String, RunResult)],
+    get: fn(&Row) -> f64,
+    style: impl Fn(usize) -> Style,
+) -> Vec<Series> {
     runs.iter()
         .enumerate()
         .map(|(k, (label, r))| {
             let pts = r.rows.iter().map(|x| (x.t, get(x))).collect();
-            Series::solid(label.clone(), pts, PALETTE[k % PALETTE.len()])
+            let mut s = Series::new(label.clone(), pts, style(k));
+            if r.summary.metrics.energy_drift > BLOWUP_FACTOR {
+                s.diverged = true;
+                s.label.push_str(" (diverged: drawn clipped)");
+            }
+            s
         })
         .collect()
 }
@@ -472,7 +533,11 @@ fn history_panels(
         let panels: Vec<(String, Vec<Series>)> = panels_runs
             .iter()
             .filter(|(_, runs)| !runs.is_empty())
-            .map(|(space, runs)| (format!("{kind}: {space}"), solid_curves(runs, q.get)))
+            .map(|(space, runs)| {
+                let n = runs.len();
+                let series = time_curves(runs, q.get, |k| style::sequence(k, n));
+                (format!("{kind}: {space}"), series)
+            })
             .collect();
         if panels.is_empty() {
             continue;

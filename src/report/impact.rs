@@ -13,17 +13,17 @@
 //!   plane, coloured by the mean pressure of their vertices at peak force.
 
 use super::doc::Figure;
+use super::style;
 use crate::cases::{CaseFile, Impact, Overrides};
 use crate::error::{Error, Result};
 use crate::fem::discretisation::Discretisation;
 use crate::output::csv::write_rows;
-use crate::output::field_plot::{cell_map, scatter_plot, Cell};
+use crate::output::field_plot::{cell_map, scatter_plot, Cell, Labels};
 use crate::output::fmt_float;
-use crate::output::plot::{time_plot, Series, PALETTE};
+use crate::output::plot::{time_plot, Dash, Marker, Series, Style};
 use crate::study::finite_body::{finite_body, FiniteBody};
 use crate::study::metrics::ImpactMeasures;
 use crate::study::run::{run, Peak};
-use plotters::style::BLACK;
 use std::path::Path;
 
 /// Samples of Hertz's quasi-static force history drawn.
@@ -107,26 +107,33 @@ impl Shot<'_> {
     fn force(&self, rows: &[crate::study::trajectory::Row]) -> Result<Figure> {
         let (out, kind, impact, setting) = (self.out, self.kind, self.impact, &self.setting);
         let computed: Vec<(f64, f64)> = rows.iter().map(|r| (r.t, r.force_contact)).collect();
-        let mut series = vec![Series::solid("computed", computed, PALETTE[0])];
+        let mut series = vec![Series::new(
+            format!("computed ({})", self.space),
+            computed,
+            Style::line(style::space(self.space).color),
+        )];
         let hertz = impact.hertz.force_history(HERTZ_SAMPLES);
         if let Some(h) = &hertz {
-            series.push(Series::dashed("Hertz (quasi-static)", h.clone(), BLACK));
+            series.push(Series::reference("Hertz (quasi-static)", h.clone()));
         }
         if let Some(history) = self
             .finite
             .and_then(|f| f.hertz.force_history(HERTZ_SAMPLES))
         {
-            series.push(Series::dashed(
+            series.push(Series::new(
                 "quasi-static, the body's own static law",
                 history,
-                PALETTE[1],
+                Style {
+                    dash: Dash::Long,
+                    ..Style::line(plotters::style::RGBColor(110, 110, 110))
+                },
             ));
         }
         let name = format!("{kind}_force.png");
         time_plot(
             &out.join(&name),
             &format!("{kind}: total contact force ({})", self.space),
-            "contact force",
+            "total contact force Σλ",
             &series,
         )?;
         let decomposition = match (self.finite, ImpactMeasures::of(rows)) {
@@ -193,19 +200,31 @@ impl Shot<'_> {
             })
             .collect();
         let name = format!("{kind}_pressure.png");
+        let n_points = points.len();
+        let marks = Style {
+            marker: Marker::Circle,
+            dash: Dash::None,
+            ..style::space(self.space)
+        };
         scatter_plot(
             &out.join(&name),
-            (
-                &format!("{kind}: contact pressure at peak force (t = {:.3})", peak.t),
-                "distance from the contact centre",
-                "contact pressure",
-            ),
-            ("computed (contact vertices)", &points),
-            &[Series::dashed(
-                format!("Hertz for F = {force:.4e}: a = {a:.4}, p0 = {p0:.4}"),
-                profile,
-                BLACK,
-            )],
+            Labels {
+                title: &format!("{kind}: contact pressure at peak force (t = {:.3})", peak.t),
+                x: "distance r from the centre of pressure",
+                y: "",
+                value: "contact pressure p = λ / area",
+            },
+            &[
+                Series::new(
+                    format!("computed, each contact vertex ({})", self.space),
+                    points,
+                    marks,
+                ),
+                Series::reference(
+                    format!("Hertz for F = {force:.4e}: a = {a:.4}, p₀ = {p0:.4}"),
+                    profile,
+                ),
+            ],
         )?;
         Ok(Figure {
             file: name,
@@ -214,7 +233,7 @@ impl Shot<'_> {
                 "Scatter plot of the contact pressure of {} contact vertices against their \
                  distance from the contact centre, with Hertz's half-ellipse profile dashed \
                  (a = {a:.4}, p0 = {p0:.4}).",
-                points.len()
+                n_points
             ),
             caption: format!(
                 "{kind}: pressure λ/area of every Γ_{{C}} vertex at peak force (t = {:.3}) against \
@@ -264,9 +283,14 @@ impl Shot<'_> {
         }
         cell_map(
             &out.join(&name),
-            &format!("{kind}: von Mises stress at peak force (t = {:.3})", peak.t),
-            "von Mises stress",
+            Labels {
+                title: &format!("{kind}: von Mises stress at peak force (t = {:.3})", peak.t),
+                x: "x (deformed)",
+                y: "height y above the plane (deformed)",
+                value: "von Mises stress",
+            },
             &cells,
+            &[],
         )?;
         Ok(Figure {
             file: name,
@@ -310,16 +334,27 @@ impl Shot<'_> {
             })
             .collect();
         let name = format!("{kind}_pressure_map.png");
+        let a = impact.hertz.contact_radius(force);
+        let circle: Vec<(f64, f64)> = (0..=120)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / 120.0;
+                (c[0] + a * t.cos(), c[1] + a * t.sin())
+            })
+            .collect();
         cell_map(
             &self.out.join(&name),
-            &format!(
-                "{kind}: contact pressure on the contact boundary at peak force (t = {:.3})",
-                peak.t
-            ),
-            "contact pressure",
+            Labels {
+                title: &format!(
+                    "{kind}: contact pressure on the contact boundary at peak force (t = {:.3})",
+                    peak.t
+                ),
+                x: "x",
+                y: "y",
+                value: "contact pressure",
+            },
             &cells,
+            &[Series::reference(format!("Hertz, a = {a:.4}"), circle)],
         )?;
-        let a = impact.hertz.contact_radius(force);
         Ok(Figure {
             file: name,
             case: kind.to_string(),

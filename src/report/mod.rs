@@ -18,6 +18,7 @@ pub mod figures;
 pub mod impact;
 pub mod index;
 pub mod quantity;
+pub mod style;
 
 use crate::cases::{self, CaseFile};
 use crate::error::{Error, Result};

@@ -5,7 +5,7 @@ use super::metrics::{self, Metrics, METRIC_COLUMNS};
 use super::trajectory::{self, Row};
 use crate::cases::Case;
 use crate::error::{Error, Result};
-use crate::output::plot::{time_plot, Series, PALETTE};
+use crate::output::plot::{time_plot, Series, Style, PALETTE};
 use crate::output::vtu::{Fields, VtuSeries};
 use crate::output::{csv::write_rows, fmt_float};
 use crate::problem::{EnergyForm, Problem};
@@ -439,7 +439,17 @@ pub fn write_summary(path: &Path, runs: &[Summary]) -> Result<()> {
     write_rows(path, &summary_columns(), runs.iter().map(summary_record))
 }
 
-/// Writes `timeseries.csv`, `summary.csv`, `energy.png` and `contact.png` of a run into `dir`.
+/// `h = …, dt = …` of a run (`dt = …` alone for a 0D case, which has no h).
+fn size(s: &Summary) -> String {
+    if s.h.is_finite() {
+        format!("h = {:.3e}, dt = {:.3e}", s.h, s.dt)
+    } else {
+        format!("dt = {:.3e}", s.dt)
+    }
+}
+
+/// Writes `timeseries.csv`, `summary.csv`, `energy.png` and `contact.png` (each with its SVG) of
+/// a run into `dir`.
 pub fn write_run(dir: &Path, result: &RunResult) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     trajectory::write_timeseries(&dir.join("timeseries.csv"), &result.rows)?;
@@ -448,7 +458,7 @@ pub fn write_run(dir: &Path, result: &RunResult) -> Result<()> {
         std::slice::from_ref(&result.summary),
     )?;
     let s = &result.summary;
-    let label = format!("{} + {} ({})", s.space, s.scheme, s.parameters);
+    let label = format!("{} + {}", s.space, s.method());
     let curve = |f: &dyn Fn(&Row) -> f64| result.rows.iter().map(|r| (r.t, f(r))).collect();
     let exact = |f: &dyn Fn((f64, f64, f64)) -> f64| -> Vec<(f64, f64)> {
         result
@@ -460,28 +470,25 @@ pub fn write_run(dir: &Path, result: &RunResult) -> Result<()> {
     let with_exact = |main: Series, ex: Vec<(f64, f64)>| {
         let mut v = vec![main];
         if !ex.is_empty() {
-            v.push(Series::dashed("exact", ex, PALETTE[1]));
+            v.push(Series::reference("exact", ex));
         }
         v
     };
     time_plot(
         &dir.join("energy.png"),
-        &format!(
-            "{}: total energy, h = {:.3e}, dt = {:.3e}",
-            s.case, s.h, s.dt
-        ),
-        "energy",
+        &format!("{}: total energy, {}", s.case, size(s)),
+        "total energy E",
         &with_exact(
-            Series::solid(label.clone(), curve(&|r| r.energy), PALETTE[0]),
+            Series::new(label.clone(), curve(&|r| r.energy), Style::line(PALETTE[0])),
             exact(&|e| e.2),
         ),
     )?;
     time_plot(
         &dir.join("contact.png"),
-        &format!("{}: contact stress at the contact point", s.case),
-        "sigma_N (compression < 0)",
+        &format!("{}: contact stress at the probe, {}", s.case, size(s)),
+        "contact stress σₙ at the probe (compression < 0)",
         &with_exact(
-            Series::solid(label, curve(&|r| r.sigma_contact), PALETTE[0]),
+            Series::new(label, curve(&|r| r.sigma_contact), Style::line(PALETTE[0])),
             exact(&|e| e.1),
         ),
     )
