@@ -103,6 +103,10 @@ fn quick_report_is_deterministic_resumable_and_indexed() {
     for table in ["summary.csv", "timings.csv", "orders.csv"] {
         assert!(index.contains(table), "{table} not described in index.md");
     }
+    let findings = index.find("\n## Findings").expect("a Findings section");
+    let first_case = index.find("\n## bar1d").expect("a bar1d section");
+    assert!(findings < first_case, "Findings come first");
+    assert!(index[findings..first_case].contains("mass_redistribution"));
     check_page(&a);
 }
 

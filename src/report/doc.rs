@@ -224,9 +224,9 @@ impl Tone {
 /// A table cell.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Cell {
-    /// Content (lines joined by `<br>` in HTML, `; ` in Markdown).
-    pub lines: Vec<Rich>,
-    /// Colour.
+    /// Lines, each with its own colour (lines joined by `<br>` in HTML, `; ` in Markdown).
+    pub lines: Vec<(Rich, Tone)>,
+    /// Colour of the whole cell.
     pub tone: Tone,
 }
 
@@ -234,7 +234,7 @@ impl Cell {
     /// A plain cell of one line.
     pub fn plain(text: impl Into<Rich>) -> Self {
         Self {
-            lines: vec![text.into()],
+            lines: vec![(text.into(), Tone::Plain)],
             tone: Tone::Plain,
         }
     }
@@ -376,7 +376,14 @@ impl Doc {
                     let _ = writeln!(md, "| {} |", cells(header).join(" | "));
                     let _ = writeln!(md, "|{}", "---|".repeat(header.len()));
                     for r in rows {
-                        let r: Vec<String> = r.iter().map(|c| cells(&c.lines).join("; ")).collect();
+                        let r: Vec<String> = r
+                            .iter()
+                            .map(|c| {
+                                let lines: Vec<Rich> =
+                                    c.lines.iter().map(|l| l.0.clone()).collect();
+                                cells(&lines).join("; ")
+                            })
+                            .collect();
                         let _ = writeln!(md, "| {} |", r.join(" | "));
                     }
                     md.push('\n');
@@ -493,7 +500,14 @@ fn table_html(h: &mut String, header: &[Rich], rows: &[Vec<Cell>]) {
                 .tone
                 .class()
                 .map_or(String::new(), |k| format!(" class=\"{k}\""));
-            let body: Vec<String> = c.lines.iter().map(Rich::html).collect();
+            let body: Vec<String> = c
+                .lines
+                .iter()
+                .map(|(text, tone)| match tone.class() {
+                    Some(k) => format!("<span class=\"chip {k}\">{}</span>", text.html()),
+                    None => text.html(),
+                })
+                .collect();
             let _ = write!(h, "<td{class}>{}</td>", body.join("<br>"));
         }
         h.push_str("</tr>\n");
@@ -513,6 +527,9 @@ table{border-collapse:collapse;font-size:0.9em}\
 td,th{border:1px solid #bbb;padding:3px 7px;vertical-align:top}th{background:#f0f0f0}\
 td.good{background:#d7f0dc}td.fair{background:#fff1c2}td.bad{background:#f7d4d4}\
 td.missing{background:#eee;color:#666}\
+.chip{display:inline-block;padding:0 4px;margin:1px 0;border-radius:3px;white-space:nowrap}\
+.chip.good{background:#cdeccf}.chip.fair{background:#ffe9a8}.chip.bad{background:#f5c6c6}\
+.chip.missing{background:#e4e4e4;color:#555}\
 figure{margin:1.5em 0}img{max-width:100%;height:auto;border:1px solid #ddd}\
 figcaption{font-size:0.92em;color:#333;margin-top:4px}\
 nav.toc{background:#f7f7f7;border:1px solid #ddd;padding:6px 16px;columns:2;font-size:0.92em}\

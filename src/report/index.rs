@@ -2,8 +2,9 @@
 //! one section per case (its case file, observed orders, errors against Hertz and its own
 //! figures), the runs that did not finish, the cross-code comparison, and every file written.
 
-use super::doc::{Block, Cell, Doc, Figure, Rich};
+use super::doc::{Block, Cell, Doc, Figure, Rich, Tone};
 use super::quantity::named;
+use super::CaseEntry;
 use crate::error::{Error, Result};
 use crate::study::jobs::{RunRecord, Status};
 use crate::study::orders::{literature, Order};
@@ -11,18 +12,6 @@ use crate::study::peers::Agreement;
 use crate::study::run::method_label;
 use crate::util::{group_by, unique};
 use std::path::Path;
-
-/// A case of the report: its kind, a one-line title and its case file (relative to the report
-/// directory, where the report copies it).
-#[derive(Debug, Clone, PartialEq)]
-pub struct CaseEntry {
-    /// Case kind (`summary.csv`'s `case`).
-    pub kind: String,
-    /// What the case is (the case file's first comment line).
-    pub title: String,
-    /// The case file, relative to the report directory (None in a merged report).
-    pub file: Option<String>,
-}
 
 /// What the index is made of.
 #[derive(Debug, Clone, Copy)]
@@ -63,6 +52,7 @@ pub fn document(c: &Contents<'_>, files: &[String]) -> Doc {
         counts.join(", ")
     ));
     d.push(Block::Contents);
+    super::findings::findings(&mut d, (c.records, c.orders), c.cases, c.quick);
     for case in c.cases {
         case_section(&mut d, c, case);
     }
@@ -143,7 +133,11 @@ fn case_section(d: &mut Doc, c: &Contents<'_>, case: &CaseEntry) {
                 expected.join(", ")
             ));
         }
-        text.push_str(" An empty cell: fewer than two usable levels.");
+        text.push_str(
+            " Marks as in [Findings](#findings): a fit that is not an order (negative slope, \
+             flat or irregular errors) is named, not printed; `orders.csv` has every slope, \
+             residual and verdict.",
+        );
         d.para(text);
         let (header, rows) = order_table(c.orders, &case.kind, &sweep);
         d.push(Block::Table(header, rows));
@@ -470,17 +464,19 @@ pub fn order_table(orders: &[Order], case: &str, sweep: &str) -> (Vec<Rich>, Vec
                 Rich::default().text(method_label(scheme, params)).into(),
             ];
             row.extend(quantities.iter().map(|q| {
-                let text = rows_of
-                    .iter()
-                    .find(|o| {
-                        o.space == *space
-                            && o.scheme == *scheme
-                            && o.parameters == *params
-                            && o.quantity == *q
-                    })
-                    .and_then(|o| o.fit)
-                    .map_or(String::new(), |f| format!("{:.2}", f.0));
-                Cell::from(text)
+                let order = rows_of.iter().find(|o| {
+                    o.space == *space
+                        && o.scheme == *scheme
+                        && o.parameters == *params
+                        && o.quantity == *q
+                });
+                order.map_or_else(Cell::default, |o| {
+                    let (text, tone) = super::findings::cell_text(o);
+                    Cell {
+                        lines: vec![(Rich::default().text(text), tone)],
+                        tone: Tone::Plain,
+                    }
+                })
             }));
             row
         })

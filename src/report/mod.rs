@@ -15,6 +15,7 @@
 
 pub mod doc;
 pub mod figures;
+pub mod findings;
 pub mod impact;
 pub mod index;
 pub mod quantity;
@@ -30,7 +31,6 @@ use crate::study::records::{read_records, write_records, write_timings};
 use crate::study::reference;
 use doc::Figure;
 use figures::{convergence_figures, time_histories};
-use index::CaseEntry;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -45,6 +45,18 @@ pub struct Options {
     pub resume: bool,
     /// Only these cases (a case file's name without `.toml`, or its `case` kind); all when empty.
     pub cases: Vec<String>,
+}
+
+/// A case of the report: its kind, a one-line title and its case file (relative to the report
+/// directory, where the report copies it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaseEntry {
+    /// Case kind (`summary.csv`'s `case`).
+    pub kind: String,
+    /// What the case is (the case file's first comment line).
+    pub title: String,
+    /// The case file, relative to the report directory (None in a merged report).
+    pub file: Option<String>,
 }
 
 /// Case files with `[[sweep]]` tables in `dir`, sorted by name, each read and parsed once.

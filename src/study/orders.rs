@@ -74,12 +74,83 @@ pub fn reference_slope(quantity: &str) -> f64 {
     }
 }
 
-/// Expected order from the literature / theory, where known (`shared/reference/methods.md`).
+/// An order expected from theory: a range `[low, high]` and how it is written.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Expected {
+    /// Lower end.
+    pub low: f64,
+    /// Upper end.
+    pub high: f64,
+    /// As written in `orders.csv` (`1`, `1/3-1/2`).
+    pub text: &'static str,
+}
+
+/// Expected order from the literature / theory, where known (`shared/reference/methods.md`:
+/// about 1 for u in L∞(L²) and u(0, t), about ⅓ to ½ for the H¹ error, the energy and the
+/// contact stress in L²(0, T), for second-order schemes with dt ∝ h on the bar).
+pub fn expected(case: &str, quantity: &str) -> Option<Expected> {
+    let (low, high, text) = match (case, quantity) {
+        ("bar1d", "err_u_linf_l2" | "err_u_contact") => (1.0, 1.0, "1"),
+        ("bar1d", "err_u_l2_h1" | "err_energy" | "err_sigma_l2") => (1.0 / 3.0, 0.5, "1/3-1/2"),
+        _ => return None,
+    };
+    Some(Expected { low, high, text })
+}
+
+/// The `literature` column: the expected order as written, or empty.
 pub fn literature(case: &str, quantity: &str) -> &'static str {
-    match (case, quantity) {
-        ("bar1d", "err_u_linf_l2" | "err_u_contact") => "1",
-        ("bar1d", "err_u_l2_h1" | "err_energy" | "err_sigma_l2") => "1/3-1/2",
-        _ => "",
+    expected(case, quantity).map_or("", |e| e.text)
+}
+
+/// An RMS residual of the fit (in ln) above this: the errors do not lie on a line, the slope
+/// is not an order.
+pub const IRREGULAR: f64 = 0.25;
+/// A finest-level error above this fraction of the coarsest: the error does not decrease.
+pub const FLAT: f64 = 0.9;
+/// An order below this (the fit otherwise sound): the quantity does not converge.
+pub const STALLS: f64 = 0.2;
+/// An order at or above this fraction of the expected lower end meets the expectation.
+pub const MEETS: f64 = 0.7;
+
+/// What an observed order says, in the words of the report and of `orders.csv`'s `verdict`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    /// Converges at (or near: [`MEETS`]) the expected order, or at order ≥ [`STALLS`] where
+    /// none is known.
+    Meets,
+    /// Converges, more slowly than expected.
+    Below,
+    /// A sound fit of order below [`STALLS`]: does not converge.
+    Stalls,
+    /// The error grows: the finest-level error exceeds the coarsest / [`FLAT`] (or the slope
+    /// is negative).
+    Grows,
+    /// The finest-level error is within [`FLAT`] of the coarsest (either way): the error does
+    /// not decrease.
+    Flat,
+    /// The fit's residual exceeds [`IRREGULAR`]: the errors do not lie on a line.
+    Irregular,
+    /// Fewer than two usable levels.
+    TooFewLevels,
+}
+
+impl Verdict {
+    /// The `verdict` column.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Verdict::Meets => "meets",
+            Verdict::Below => "below",
+            Verdict::Stalls => "stalls",
+            Verdict::Grows => "grows",
+            Verdict::Flat => "flat",
+            Verdict::Irregular => "irregular",
+            Verdict::TooFewLevels => "too_few_levels",
+        }
+    }
+
+    /// True when the slope is an order worth printing (meets, below, stalls).
+    pub fn is_order(self) -> bool {
+        matches!(self, Verdict::Meets | Verdict::Below | Verdict::Stalls)
     }
 }
 
@@ -103,6 +174,10 @@ pub struct Order {
     pub fit: Option<(f64, f64)>,
     /// Levels used (status ok, error finite and > 0).
     pub points: usize,
+    /// The error at the coarsest and at the finest usable level.
+    pub ends: Option<(f64, f64)>,
+    /// h (dt for a 0D case) of the finest usable level.
+    pub finest: Option<f64>,
     /// What the errors are measured against: `exact`, `own finest level`, or the common
     /// reference `<space> <scheme> (<parameters>) finest level`.
     pub reference: String,
@@ -153,6 +228,9 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
                 continue;
             }
             let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
+            // Levels come coarsest first.
+            let finest = pts.iter().copied().min_by(|a, b| a.0.total_cmp(&b.0));
+            let coarsest = pts.iter().copied().max_by(|a, b| a.0.total_cmp(&b.0));
             out.push(Order {
                 case: case.clone(),
                 sweep: sweep.clone(),
@@ -162,11 +240,36 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
                 quantity,
                 fit: (pts.len() >= 2).then(|| fit_order(&x, &y)),
                 points: pts.len(),
+                ends: coarsest.zip(finest).map(|(c, f)| (c.1, f.1)),
+                finest: finest.map(|f| f.0),
                 reference: reference_of(quantity),
             });
         }
     }
     out
+}
+
+impl Order {
+    /// What the fit says ([`Verdict`]), against the expected order of its case and quantity.
+    pub fn verdict(&self) -> Verdict {
+        let (Some((order, residual)), Some((first, last))) = (self.fit, self.ends) else {
+            return Verdict::TooFewLevels;
+        };
+        if residual > IRREGULAR {
+            Verdict::Irregular
+        } else if last > first / FLAT || (order < 0.0 && last <= FLAT * first) {
+            Verdict::Grows
+        } else if last > FLAT * first {
+            Verdict::Flat
+        } else if order < STALLS {
+            Verdict::Stalls
+        } else {
+            match expected(&self.case, self.quantity) {
+                Some(e) if order < MEETS * e.low => Verdict::Below,
+                _ => Verdict::Meets,
+            }
+        }
+    }
 }
 
 /// Columns of `orders.csv`.
@@ -182,6 +285,8 @@ pub const ORDER_COLUMNS: &[&str] = &[
     "points",
     "literature",
     "reference",
+    "finest_error",
+    "verdict",
 ];
 
 /// Writes `orders.csv` (orders and residuals with 4 decimals).
@@ -202,6 +307,8 @@ pub fn write_orders(path: &Path, orders: &[Order]) -> Result<()> {
                 o.points.to_string(),
                 literature(&o.case, o.quantity).to_string(),
                 o.reference.clone(),
+                crate::output::fmt_float(o.ends.map(|e| e.1)),
+                o.verdict().as_str().to_string(),
             ]
         }),
     )
@@ -215,5 +322,54 @@ mod tests {
     #[test]
     fn every_fitted_quantity_is_a_metric_column() {
         assert_eq!(quantities().count(), FITTED.len());
+    }
+
+    fn order(quantity: &'static str, errors: &[f64]) -> Order {
+        let h: Vec<f64> = (0..errors.len()).map(|k| 0.5f64.powi(k as i32)).collect();
+        Order {
+            case: "bar1d".into(),
+            sweep: "orders".into(),
+            space: "standard".into(),
+            scheme: "newmark".into(),
+            parameters: String::new(),
+            quantity,
+            fit: (errors.len() >= 2).then(|| fit_order(&h, errors)),
+            points: errors.len(),
+            ends: errors.first().zip(errors.last()).map(|(a, b)| (*a, *b)),
+            finest: h.last().copied(),
+            reference: "exact".into(),
+        }
+    }
+
+    /// The verdicts of the examples: hertz2d standard's peak pressure error growing
+    /// from 5e-5 to 1.6e-2, Moreau–Jean's flat 0.6, the standard σ_N's order 0.1.
+    #[test]
+    fn fits_that_are_not_orders_are_flagged() {
+        assert_eq!(
+            order("err_sigma_l2", &[5e-5, 1e-3, 1.6e-2]).verdict(),
+            Verdict::Grows
+        );
+        assert_eq!(
+            order("err_u_contact", &[0.6, 0.61, 0.6, 0.6]).verdict(),
+            Verdict::Flat
+        );
+        assert_eq!(
+            order("err_u_contact", &[0.6, 0.6, 0.6, 0.59]).verdict(),
+            Verdict::Flat
+        );
+        let e: Vec<f64> = (0..5).map(|k| 0.8 * 0.5f64.powf(0.11 * k as f64)).collect();
+        assert_eq!(order("err_sigma_l2", &e).verdict(), Verdict::Stalls);
+        let e: Vec<f64> = (0..5).map(|k| 0.3 * 0.5f64.powf(0.33 * k as f64)).collect();
+        assert_eq!(order("err_sigma_l2", &e).verdict(), Verdict::Meets);
+        let e: Vec<f64> = (0..5).map(|k| 0.1 * 0.5f64.powf(0.5 * k as f64)).collect();
+        assert_eq!(order("err_u_contact", &e).verdict(), Verdict::Below);
+        assert_eq!(
+            order("err_u_contact", &[1e-1, 1e-3, 5e-2, 1e-4]).verdict(),
+            Verdict::Irregular
+        );
+        assert_eq!(
+            order("err_u_contact", &[1e-1]).verdict(),
+            Verdict::TooFewLevels
+        );
     }
 }
