@@ -216,6 +216,7 @@ fn sweep(
     if shard.is_none() {
         reference::reference_errors(&mut records);
     }
+    journal::rewrite(out, &journal, &all, &records)?;
     let name = shard.map_or("records.csv".to_string(), |(i, n)| {
         format!("records-{i}-of-{n}.csv")
     });

@@ -103,11 +103,75 @@ fn quick_report_is_deterministic_resumable_and_indexed() {
     for table in ["summary.csv", "timings.csv", "orders.csv"] {
         assert!(index.contains(table), "{table} not described in index.md");
     }
+    check_csvs(&a);
     let findings = index.find("\n## Findings").expect("a Findings section");
     let first_case = index.find("\n## bar1d").expect("a bar1d section");
     assert!(findings < first_case, "Findings come first");
     assert!(index[findings..first_case].contains("mass_redistribution"));
     check_page(&a);
+}
+
+/// A CSV file as a header and rows (no quoted commas in the columns compared).
+fn table(p: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut r = csv_rows(&read(p));
+    let header = r.remove(0);
+    (header, r)
+}
+
+fn csv_rows(text: &str) -> Vec<Vec<String>> {
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(text.as_bytes());
+    reader
+        .records()
+        .map(|r| r.unwrap().iter().map(String::from).collect())
+        .collect()
+}
+
+/// summary.csv names each run (`key`, its probe file), its degree, cells and contact; the
+/// journal holds the same values in every column they share; the peak memory is filled; no CSV
+/// writes a missing value as anything but an empty field.
+fn check_csvs(dir: &Path) {
+    let (sh, summary) = table(&dir.join("summary.csv"));
+    let (jh, journal) = table(&dir.join("journal.csv"));
+    for c in ["key", "degree", "cells", "contact"] {
+        assert!(sh.iter().any(|h| h == c), "summary.csv has no `{c}`");
+    }
+    assert_eq!(summary.len(), journal.len());
+    for (s, j) in summary.iter().zip(&journal) {
+        for (k, name) in sh.iter().enumerate() {
+            let at = jh
+                .iter()
+                .position(|h| h == name)
+                .expect("journal has the column");
+            assert_eq!(s[k], j[at], "{}: `{name}` differs in journal.csv", s[0]);
+        }
+    }
+    let col = |h: &[String], name: &str| h.iter().position(|x| x == name).unwrap();
+    let (key, cells) = (col(&sh, "key"), col(&sh, "cells"));
+    let block = summary
+        .iter()
+        .find(|r| r[key].starts_with("block2d-"))
+        .expect("a block run");
+    assert!(dir.join(format!("probes/{}.csv", block[key])).exists());
+    assert_eq!(block[cells], "quad");
+    let (th, timings) = table(&dir.join("timings.csv"));
+    let rss = col(&th, "max_rss_mb");
+    assert!(timings
+        .iter()
+        .all(|r| r[rss].parse::<f64>().is_ok_and(|m| m > 0.0)));
+    for f in std::fs::read_dir(dir).unwrap().filter_map(|e| e.ok()) {
+        let name = f.file_name().to_string_lossy().to_string();
+        if name.ends_with(".csv") {
+            for row in csv_rows(&read(&f.path())) {
+                assert!(
+                    !row.iter()
+                        .any(|v| ["NaN", "-", "–", "nan"].contains(&v.as_str())),
+                    "{name}: a missing value written as NaN or a dash: {row:?}"
+                );
+            }
+        }
+    }
 }
 
 /// The values of every `name="…"` attribute of `html`.

@@ -182,6 +182,11 @@ impl Case for Bar1d {
         self.fem.mesh.h
     }
 
+    fn element(&self) -> Option<(&'static str, usize)> {
+        let e = self.fem.mesh.element;
+        Some((e.cells(), e.degree))
+    }
+
     fn problem(&self, space: &dyn Space) -> Result<Problem> {
         let initial = Initial {
             displacement: self

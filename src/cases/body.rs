@@ -373,6 +373,11 @@ impl Case for Body {
         self.fem.mesh.h
     }
 
+    fn element(&self) -> Option<(&'static str, usize)> {
+        let e = self.fem.mesh.element;
+        Some((e.cells(), e.degree))
+    }
+
     fn problem(&self, space: &dyn Space) -> Result<Problem> {
         let (fem, g) = (&self.fem, &self.geometry);
         let d = fem.dim();

@@ -53,6 +53,11 @@ pub trait Case: Send + Sync {
     fn discretisation(&self) -> Option<&crate::fem::discretisation::Discretisation> {
         None
     }
+    /// The cell shape (`segment`, `triangle`, `quad`, `tet`, `hex`) and polynomial degree of
+    /// the mesh; None for a 0D case.
+    fn element(&self) -> Option<(&'static str, usize)> {
+        None
+    }
     /// What an impact against Hertz theory measures (curved-body cases), if anything.
     fn impact(&self) -> Option<Impact> {
         None

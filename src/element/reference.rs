@@ -59,6 +59,18 @@ impl RefElement {
         }
     }
 
+    /// The cell shape's name as `--cells` and the records write it: `segment`, `triangle`,
+    /// `quad`, `tet`, `hex`.
+    pub fn cells(&self) -> &'static str {
+        match (self.shape, self.dim) {
+            (_, 1) => "segment",
+            (Shape::Simplex, 2) => "triangle",
+            (Shape::Tensor, 2) => "quad",
+            (Shape::Simplex, _) => "tet",
+            (Shape::Tensor, _) => "hex",
+        }
+    }
+
     /// Number of local nodes.
     pub fn n_nodes(&self) -> usize {
         match self.shape {

@@ -6,9 +6,14 @@ pub mod field_plot;
 pub mod plot;
 pub mod vtu;
 
-/// A float as written to CSV: `{:.12e}`; `None` as an empty field.
+/// A float as written to CSV: `{:.12e}`; `None` and NaN (a value that does not exist, e.g. h
+/// of a 0D case or a metric of a run that did not finish) as an empty field, the one
+/// missing-value convention of every CSV.
 pub fn fmt_float(x: Option<f64>) -> String {
-    x.map_or_else(String::new, |v| format!("{v:.12e}"))
+    match x {
+        Some(v) if !v.is_nan() => format!("{v:.12e}"),
+        _ => String::new(),
+    }
 }
 
 /// `x` rounded to 6 significant digits, printed in scientific notation (snapshots).

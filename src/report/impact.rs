@@ -382,9 +382,8 @@ fn write_finite_body(path: &Path, f: &FiniteBody) -> Result<()> {
     let rows = f.points.iter().map(|p| {
         [p.force, p.approach, p.hertz, p.coefficient(&f.hertz)].map(|x| fmt_float(Some(x)))
     });
-    write_rows(
-        path,
-        &["force", "approach", "approach_hertz", "coefficient"],
-        rows,
-    )
+    write_rows(path, FINITE_BODY_COLUMNS, rows)
 }
+
+/// Columns of `<case>_finite_body.csv`.
+pub const FINITE_BODY_COLUMNS: &[&str] = &["force", "approach", "approach_hertz", "coefficient"];

@@ -13,6 +13,7 @@
 //! `dyncontact merge` rebuilds the same files (without the time histories, which need the time
 //! series) from record files written by `dyncontact sweep --shard i/n`.
 
+pub mod columns;
 pub mod doc;
 pub mod figures;
 pub mod findings;
@@ -24,7 +25,7 @@ pub mod style;
 use crate::cases::{self, CaseFile};
 use crate::error::{Error, Result};
 use crate::study::jobs::{self, RunRecord};
-use crate::study::journal::run_study;
+use crate::study::journal::{self, run_study};
 use crate::study::orders;
 use crate::study::peers::{self, Agreement};
 use crate::study::records::{read_records, write_records, write_timings};
@@ -140,6 +141,7 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
     }
     let mut records = run_study(&all, out, "journal.csv", opts.resume, opts.progress)?;
     reference::reference_errors(&mut records);
+    journal::rewrite(out, "journal.csv", &all, &records)?;
     let mut figures = Vec::new();
     for f in &files {
         let case = f.build(&Default::default())?;
@@ -190,6 +192,8 @@ fn write(
     (cases, quick): (&[CaseEntry], bool),
 ) -> Result<()> {
     write_records(&out.join("summary.csv"), records, false)?;
+    let columns = out.join("COLUMNS.md");
+    std::fs::write(&columns, columns::columns_md()).map_err(|e| Error::io(&columns, e))?;
     write_timings(&out.join("timings.csv"), records)?;
     let orders = orders::orders(records);
     orders::write_orders(&out.join("orders.csv"), &orders)?;

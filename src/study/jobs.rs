@@ -31,22 +31,11 @@ pub struct Job {
     pub level: usize,
     /// Refinement of this level.
     pub refinement: Refinement,
+    /// The run's name in the records and the name of its probe file (`probes/<key>.csv`):
+    /// `<case file>-<sweep>-<space>-<scheme>[-<parameters>]-L<level>`, e.g.
+    /// `bar1d-orders-standard-newmark-beta=0.5;gamma=0.5-L0` (`--quick` keeps the same keys).
+    pub key: String,
     overrides: cases::Overrides,
-}
-
-impl Job {
-    /// What identifies the run across invocations: the case file's content hash, the sweep,
-    /// space, scheme with its parameters, and the level (`--quick` keeps the same keys).
-    pub fn key(&self) -> String {
-        format!(
-            "{}/{}/{}/{}/{}",
-            self.file.hash,
-            self.sweep,
-            self.space,
-            self.choice.label(),
-            self.level
-        )
-    }
 }
 
 /// Outcome of a run.
@@ -105,6 +94,8 @@ impl Status {
 /// One row of `records.csv`.
 #[derive(Debug, Clone)]
 pub struct RunRecord {
+    /// The run's key ([`Job::key`]).
+    pub key: String,
     /// Sweep name.
     pub sweep: String,
     /// Level index.
@@ -157,6 +148,20 @@ pub fn jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
                     let mut spec = case.run().clone();
                     overrides.apply(&mut spec);
                     spec.validate()?;
+                    let parameters = spec.parameters()?;
+                    let key = [
+                        file.stem().as_str(),
+                        &s.name,
+                        space,
+                        &choice.scheme,
+                        &parameters,
+                        &format!("L{level}"),
+                    ]
+                    .iter()
+                    .filter(|p| !p.is_empty())
+                    .copied()
+                    .collect::<Vec<&str>>()
+                    .join("-");
                     out.push(Job {
                         file: file.clone(),
                         sweep: s.name.clone(),
@@ -164,6 +169,7 @@ pub fn jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
                         choice: choice.clone(),
                         level,
                         refinement,
+                        key,
                         overrides,
                     });
                 }
@@ -246,6 +252,7 @@ pub fn run_job(job: &Job) -> RunRecord {
         },
     };
     RunRecord {
+        key: job.key.clone(),
         sweep: job.sweep.clone(),
         level: job.level,
         status,
@@ -262,11 +269,18 @@ fn failed_summary(job: &Job, case: Option<&dyn Case>) -> Summary {
         .as_ref()
         .and_then(|s| s.parameters().ok())
         .unwrap_or_default();
+    let element = case.and_then(|c| c.element());
     Summary {
         case: case.map_or("", |c| c.kind()).to_string(),
         space: job.space.clone(),
         scheme: job.choice.scheme.clone(),
         parameters,
+        contact: spec
+            .as_ref()
+            .and_then(|s| crate::contact::formulation(&s.options).ok())
+            .map_or(String::new(), |f| f.label()),
+        degree: element.map(|e| e.1),
+        cells: element.map_or(String::new(), |e| e.0.to_string()),
         h: case.map_or(f64::NAN, |c| c.h()),
         dt: job.refinement.dt,
         dofs: 0,

@@ -1,25 +1,43 @@
 //! The journal of a study: one line per finished run, appended and flushed as the run finishes,
 //! so that a study killed mid-way loses no finished run and `--resume` skips them.
 //!
-//! `journal.csv` has the columns of `records.csv` (with the wall time) after a `key`: the case
-//! file's content hash, the sweep, space, scheme with its parameters, and the level
-//! ([`Job::key`]). The probe series `(t, u, σ_N)` of a run without exact solution, which the
-//! reference errors need, is written beside it as `probes/<hash of the key>.csv` before the
-//! journal line. A torn last line (a kill during the write) is dropped on resume.
+//! `journal.csv` has the columns of `records.csv` (with the timing columns) and, after the run's
+//! `key` ([`Job::key`]), the `case_hash` of the case file's content: a run is taken from the
+//! journal only when both match. The probe series `(t, u, σ_N)` of a run without exact solution,
+//! which the reference errors need, is written beside it as `probes/<key>.csv` before the
+//! journal line. A torn last line (a kill during the write) is dropped on resume. When the
+//! study is over, [`rewrite`] writes the journal again in run order with the final records (the
+//! reference errors included), so that it and `summary.csv` hold the same metrics.
 //!
 //! The outputs are always computed from what the journal holds, read back, so an interrupted
 //! and resumed study writes the same bytes as an uninterrupted one.
 
 use super::jobs::{run_job, runs_bar, Job, RunRecord};
-use super::records::{read_keyed, record_fields, record_header};
+use super::records::{read_rows, record_fields, record_header};
 use crate::error::{Error, Result};
 use crate::output::{csv::write_rows, fmt_float};
-use crate::util::content_hash;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+
+/// The column of the case file's content hash.
+const CASE_HASH: &str = "case_hash";
+
+/// The journal's header: `key`, `case_hash`, then the other columns of a records file.
+pub fn header() -> Vec<&'static str> {
+    let mut h = record_header(true);
+    h.insert(1, CASE_HASH);
+    h
+}
+
+/// One journal line's fields.
+fn fields(record: &RunRecord, case_hash: &str) -> Vec<String> {
+    let mut f = record_fields(record, true);
+    f.insert(1, case_hash.to_string());
+    f
+}
 
 /// An open journal.
 pub struct Journal {
@@ -29,8 +47,8 @@ pub struct Journal {
 
 impl Journal {
     /// Opens `dir/name`: emptied unless `resume`; with `resume`, returns the complete lines
-    /// already there (rewriting the file without a torn last line).
-    pub fn open(dir: &Path, name: &str, resume: bool) -> Result<(Self, Vec<(String, RunRecord)>)> {
+    /// already there with their case hash (rewriting the file without a torn last line).
+    pub fn open(dir: &Path, name: &str, resume: bool) -> Result<(Self, Vec<(RunRecord, String)>)> {
         let path = dir.join(name);
         std::fs::create_dir_all(dir.join(PROBES)).map_err(|e| Error::io(dir, e))?;
         let done = if resume && path.exists() {
@@ -39,14 +57,12 @@ impl Journal {
             if complete.len() != text.len() {
                 std::fs::write(&path, complete).map_err(|e| Error::io(&path, e))?;
             }
-            read_keyed(csv::Reader::from_reader(complete.as_bytes()), &path)?
+            read_journal(complete, &path)?
         } else {
             Vec::new()
         };
         if done.is_empty() {
-            let mut header = vec!["key"];
-            header.extend(record_header(true));
-            write_rows(&path, &header, std::iter::empty::<Vec<String>>())?;
+            write_rows(&path, &header(), std::iter::empty::<Vec<String>>())?;
         }
         let file = std::fs::OpenOptions::new()
             .append(true)
@@ -62,25 +78,24 @@ impl Journal {
     }
 
     /// Appends one record (its probe series first), as one write, and flushes.
-    pub fn append(&self, key: &str, record: &RunRecord) -> Result<()> {
+    pub fn append(&self, case_hash: &str, record: &RunRecord) -> Result<()> {
         if !record.probe.is_empty() {
             write_rows(
-                &self.probe_path(key),
-                &["t", "u_contact", "sigma_contact"],
+                &probe_path(&self.path, &record.key),
+                PROBE_COLUMNS,
                 record
                     .probe
                     .iter()
                     .map(|&(t, u, s)| [t, u, s].map(|x| fmt_float(Some(x)))),
             )?;
         }
-        let mut fields = vec![key.to_string()];
-        fields.extend(record_fields(record, true));
         let mut line = csv::Writer::from_writer(Vec::new());
         let err = |e: String| Error::Csv {
             path: self.path.clone(),
             message: e,
         };
-        line.write_record(&fields).map_err(|e| err(e.to_string()))?;
+        line.write_record(fields(record, case_hash))
+            .map_err(|e| err(e.to_string()))?;
         let bytes = line.into_inner().map_err(|e| err(e.to_string()))?;
         let mut file = self
             .file
@@ -90,37 +105,53 @@ impl Journal {
             .and_then(|_| file.flush())
             .map_err(|e| Error::io(&self.path, e))
     }
+}
 
-    fn probe_path(&self, key: &str) -> PathBuf {
-        let dir = self.path.parent().unwrap_or(Path::new("."));
-        dir.join(PROBES)
-            .join(format!("{}.csv", content_hash(key.as_bytes())))
-    }
+/// The records of journal text, each with its case hash.
+fn read_journal(text: &str, path: &Path) -> Result<Vec<(RunRecord, String)>> {
+    let rows = read_rows(
+        csv::Reader::from_reader(text.as_bytes()),
+        path,
+        &[CASE_HASH],
+    )?;
+    Ok(rows
+        .into_iter()
+        .map(|(r, mut x)| (r, x.remove(0)))
+        .collect())
+}
 
-    /// The probe series written for `key`, if any.
-    fn read_probe(&self, key: &str) -> Result<Vec<(f64, f64, f64)>> {
-        let path = self.probe_path(key);
-        if !path.exists() {
-            return Ok(Vec::new());
-        }
-        let err = |m: String| Error::Csv {
-            path: path.clone(),
-            message: m,
-        };
-        let mut reader = csv::Reader::from_path(&path).map_err(|e| err(e.to_string()))?;
-        reader
-            .deserialize::<(f64, f64, f64)>()
-            .map(|row| row.map_err(|e| err(e.to_string())))
-            .collect()
+/// `probes/<key>.csv` beside the journal at `journal`.
+fn probe_path(journal: &Path, key: &str) -> PathBuf {
+    let dir = journal.parent().unwrap_or(Path::new("."));
+    dir.join(PROBES).join(format!("{key}.csv"))
+}
+
+/// The probe series written for `key` beside the journal, if any.
+fn read_probe(journal: &Path, key: &str) -> Result<Vec<(f64, f64, f64)>> {
+    let path = probe_path(journal, key);
+    if !path.exists() {
+        return Ok(Vec::new());
     }
+    let err = |m: String| Error::Csv {
+        path: path.clone(),
+        message: m,
+    };
+    let mut reader = csv::Reader::from_path(&path).map_err(|e| err(e.to_string()))?;
+    reader
+        .deserialize::<(f64, f64, f64)>()
+        .map(|row| row.map_err(|e| err(e.to_string())))
+        .collect()
 }
 
 /// Folder of the probe series, beside the journal.
 const PROBES: &str = "probes";
 
+/// Columns of a probe file.
+pub const PROBE_COLUMNS: &[&str] = &["t", "u_contact", "sigma_contact"];
+
 /// Runs the jobs that `dir/journal` does not hold yet (every job without `resume`), in parallel,
 /// appending each record as it finishes; returns every job's record in job order, as read back
-/// from the journal, with its probe series.
+/// from the journal, with its probe series. Two jobs with the same key are refused.
 pub fn run_study(
     jobs: &[Job],
     dir: &Path,
@@ -128,11 +159,22 @@ pub fn run_study(
     resume: bool,
     progress: bool,
 ) -> Result<Vec<RunRecord>> {
+    let mut keys = std::collections::HashSet::new();
+    if let Some(j) = jobs.iter().find(|j| !keys.insert(j.key.as_str())) {
+        return Err(Error::invalid(
+            "sweep",
+            &j.key,
+            "two runs of the [[sweep]] tables have the same key (two case files of one name?)",
+        ));
+    }
     let (journal, done) = Journal::open(dir, journal, resume)?;
-    let done_keys: std::collections::HashSet<&str> = done.iter().map(|d| d.0.as_str()).collect();
+    let done_keys: std::collections::HashSet<(&str, &str)> = done
+        .iter()
+        .map(|(r, hash)| (r.key.as_str(), hash.as_str()))
+        .collect();
     let todo: Vec<&Job> = jobs
         .iter()
-        .filter(|j| !done_keys.contains(j.key().as_str()))
+        .filter(|j| !done_keys.contains(&(j.key.as_str(), j.file.hash.as_str())))
         .collect();
     if resume && !done.is_empty() && progress {
         eprintln!(
@@ -145,23 +187,41 @@ pub fn run_study(
     todo.par_iter().try_for_each(|j| {
         let r = run_job(j);
         bar.inc(1);
-        journal.append(&j.key(), &r)
+        journal.append(&j.file.hash, &r)
     })?;
     bar.finish_and_clear();
     let text = std::fs::read_to_string(&journal.path).map_err(|e| Error::io(&journal.path, e))?;
-    let all: HashMap<String, RunRecord> =
-        read_keyed(csv::Reader::from_reader(text.as_bytes()), &journal.path)?
-            .into_iter()
-            .collect();
+    let all: HashMap<(String, String), RunRecord> = read_journal(&text, &journal.path)?
+        .into_iter()
+        .map(|(r, hash)| ((r.key.clone(), hash), r))
+        .collect();
     jobs.iter()
         .map(|j| {
-            let key = j.key();
-            let mut r = all.get(&key).cloned().ok_or_else(|| Error::Csv {
-                path: journal.path.clone(),
-                message: format!("no record for run {key}"),
-            })?;
-            r.probe = journal.read_probe(&key)?;
+            let mut r = all
+                .get(&(j.key.clone(), j.file.hash.clone()))
+                .cloned()
+                .ok_or_else(|| Error::Csv {
+                    path: journal.path.clone(),
+                    message: format!("no record for run {}", j.key),
+                })?;
+            r.probe = read_probe(&journal.path, &j.key)?;
             Ok(r)
         })
         .collect()
+}
+
+/// Writes `dir/journal` again with `records` (the final ones, one per job, in job order), so
+/// that it holds what `summary.csv` holds; written beside and renamed, so that a kill leaves
+/// the old journal or the new one.
+pub fn rewrite(dir: &Path, journal: &str, jobs: &[Job], records: &[RunRecord]) -> Result<()> {
+    let path = dir.join(journal);
+    let tmp = dir.join(format!("{journal}.tmp"));
+    write_rows(
+        &tmp,
+        &header(),
+        jobs.iter()
+            .zip(records)
+            .map(|(j, r)| fields(r, &j.file.hash)),
+    )?;
+    std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))
 }

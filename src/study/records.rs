@@ -1,27 +1,25 @@
 //! `records.csv` / `summary.csv` of a sweep: one row per run, written and read back (for
-//! `dyncontact merge`), and `timings.csv` with the only non-deterministic columns.
+//! `dyncontact merge` and the journal), and `timings.csv` with the only non-deterministic
+//! columns.
 
 use super::jobs::{RunRecord, Status};
 use super::metrics::{Metrics, METRIC_COLUMNS};
-use super::run::{summary_columns, summary_record, Summary};
+use super::run::{fmt_mib, summary_columns, summary_record, Summary, TIMING_COLUMNS};
 use crate::error::{Error, Result};
 use crate::output::csv::write_rows;
 use std::path::Path;
 
 /// Columns of `records.csv` before the summary columns.
-pub const RECORD_COLUMNS: &[&str] = &["sweep", "level", "status", "reason"];
+pub const RECORD_COLUMNS: &[&str] = &["key", "sweep", "level", "status", "reason"];
 
-/// The non-deterministic column of `summary.csv`, left out of the report's summary.
-const WALL_TIME: &str = "wall_time_s";
-
-/// The header of a records file: [`RECORD_COLUMNS`] then `summary.csv`'s columns, without
-/// `wall_time_s` unless `with_timing`.
+/// The header of a records file: [`RECORD_COLUMNS`] then `summary.csv`'s columns, without the
+/// machine-dependent [`TIMING_COLUMNS`] unless `with_timing`.
 pub fn record_header(with_timing: bool) -> Vec<&'static str> {
     let mut header = RECORD_COLUMNS.to_vec();
     header.extend(
         summary_columns()
             .into_iter()
-            .filter(|c| with_timing || *c != WALL_TIME),
+            .filter(|c| with_timing || !TIMING_COLUMNS.contains(c)),
     );
     header
 }
@@ -29,6 +27,7 @@ pub fn record_header(with_timing: bool) -> Vec<&'static str> {
 /// The fields of one record under [`record_header`]`(with_timing)`.
 pub fn record_fields(r: &RunRecord, with_timing: bool) -> Vec<String> {
     let mut v = vec![
+        r.key.clone(),
         r.sweep.clone(),
         r.level.to_string(),
         r.status.as_str().to_string(),
@@ -38,14 +37,14 @@ pub fn record_fields(r: &RunRecord, with_timing: bool) -> Vec<String> {
         summary_record(&r.summary)
             .into_iter()
             .zip(summary_columns())
-            .filter(|(_, c)| with_timing || *c != WALL_TIME)
+            .filter(|(_, c)| with_timing || !TIMING_COLUMNS.contains(c))
             .map(|(x, _)| x),
     );
     v
 }
 
-/// Writes the records under [`record_header`] (without `wall_time_s` unless `with_timing`, so
-/// that two report runs give byte-identical files).
+/// Writes the records under [`record_header`] (without the timing columns unless
+/// `with_timing`, so that two report runs give byte-identical files).
 pub fn write_records(path: &Path, records: &[RunRecord], with_timing: bool) -> Result<()> {
     write_rows(
         path,
@@ -55,7 +54,8 @@ pub fn write_records(path: &Path, records: &[RunRecord], with_timing: bool) -> R
 }
 
 /// Columns of `timings.csv`.
-pub const TIMING_COLUMNS: &[&str] = &[
+pub const TIMINGS_COLUMNS: &[&str] = &[
+    "key",
     "case",
     "sweep",
     "space",
@@ -70,16 +70,18 @@ pub const TIMING_COLUMNS: &[&str] = &[
     "max_rss_mb",
 ];
 
-/// Writes `timings.csv`: wall time of the time loop (prepare included), per step and per dof·step,
-/// and the process's peak resident memory when the run ended (MiB; runs in parallel share it).
+/// Writes `timings.csv`: wall time of the time loop (prepare included), per step and per
+/// dof·step, and the process's peak resident memory when the run ended (MiB; runs in parallel
+/// share it).
 pub fn write_timings(path: &Path, records: &[RunRecord]) -> Result<()> {
     write_rows(
         path,
-        TIMING_COLUMNS,
+        TIMINGS_COLUMNS,
         records.iter().filter(|r| r.summary.steps > 0).map(|r| {
             let s = &r.summary;
             let per_step = s.wall_time / s.steps as f64;
             vec![
+                r.key.clone(),
                 s.case.clone(),
                 r.sweep.clone(),
                 s.space.clone(),
@@ -91,27 +93,31 @@ pub fn write_timings(path: &Path, records: &[RunRecord]) -> Result<()> {
                 format!("{:.6e}", s.wall_time),
                 format!("{per_step:.6e}"),
                 format!("{:.6e}", per_step / s.dofs.max(1) as f64),
-                format!("{:.1}", s.max_rss / 1048576.0),
+                fmt_mib(s.max_rss),
             ]
         }),
     )
 }
 
-/// Reads records written by [`write_records`] (with or without the timing column).
+/// Reads records written by [`write_records`] (with or without the timing columns).
 pub fn read_records(path: &Path) -> Result<Vec<RunRecord>> {
     let reader = csv::Reader::from_path(path).map_err(|e| Error::Csv {
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    Ok(read_keyed(reader, path)?.into_iter().map(|r| r.1).collect())
+    Ok(read_rows(reader, path, &[])?
+        .into_iter()
+        .map(|r| r.0)
+        .collect())
 }
 
-/// Records from a reader, each with its `key` column (empty when the file has none); `path`
-/// names the file in messages.
-pub fn read_keyed<R: std::io::Read>(
+/// Records from a reader, each with the values of the `extra` columns (empty where the file has
+/// none); `path` names the file in messages.
+pub fn read_rows<R: std::io::Read>(
     mut reader: csv::Reader<R>,
     path: &Path,
-) -> Result<Vec<(String, RunRecord)>> {
+    extra: &[&str],
+) -> Result<Vec<(RunRecord, Vec<String>)>> {
     let err = |m: String| Error::Csv {
         path: path.to_path_buf(),
         message: m,
@@ -148,30 +154,36 @@ pub fn read_keyed<R: std::io::Read>(
         for c in METRIC_COLUMNS {
             (c.set)(&mut metrics, float(c.name)?);
         }
-        out.push((
-            text("key"),
-            RunRecord {
-                sweep: text("sweep"),
-                level: count("level")?,
-                status,
-                reason: text("reason"),
-                summary: Summary {
-                    case: text("case"),
-                    space: text("space"),
-                    scheme: text("scheme"),
-                    parameters: text("parameters"),
-                    h: nan(float("h")?),
-                    dt: nan(float("dt")?),
-                    dofs: count("dofs")?,
-                    steps: count("steps")?,
-                    contact_iterations: count("contact_iterations")?,
-                    wall_time: float(WALL_TIME)?.unwrap_or(0.0),
-                    max_rss: f64::NAN,
-                    metrics,
-                },
-                probe: Vec::new(),
+        let degree = match text("degree").as_str() {
+            "" => None,
+            _ => Some(count("degree")?),
+        };
+        let record = RunRecord {
+            key: text("key"),
+            sweep: text("sweep"),
+            level: count("level")?,
+            status,
+            reason: text("reason"),
+            summary: Summary {
+                case: text("case"),
+                space: text("space"),
+                scheme: text("scheme"),
+                parameters: text("parameters"),
+                contact: text("contact"),
+                degree,
+                cells: text("cells"),
+                h: nan(float("h")?),
+                dt: nan(float("dt")?),
+                dofs: count("dofs")?,
+                steps: count("steps")?,
+                contact_iterations: count("contact_iterations")?,
+                wall_time: float("wall_time_s")?.unwrap_or(0.0),
+                max_rss: float("max_rss_mb")?.map_or(f64::NAN, |m| m * 1048576.0),
+                metrics,
             },
-        ));
+            probe: Vec::new(),
+        };
+        out.push((record, extra.iter().map(|c| text(c)).collect()));
     }
     Ok(out)
 }

@@ -26,6 +26,12 @@ pub struct Summary {
     pub scheme: String,
     /// Scheme parameters, `key=value;…`.
     pub parameters: String,
+    /// Contact formulation as labelled (`nodal`, `weak_p1`, `nitsche`, `penalty`).
+    pub contact: String,
+    /// Polynomial degree of the displacement (None for 0D).
+    pub degree: Option<usize>,
+    /// Cell shape (`segment`, `triangle`, `quad`, `tet`, `hex`; empty for 0D).
+    pub cells: String,
     /// Mesh size (NaN for 0D).
     pub h: f64,
     /// Time step.
@@ -249,6 +255,9 @@ pub fn run_with_output(
             space: space.name().to_string(),
             scheme: scheme.name().to_string(),
             parameters: spec.parameters()?,
+            contact: formulation.label(),
+            degree: case.element().map(|e| e.1),
+            cells: case.element().map_or(String::new(), |e| e.0.to_string()),
             h: case.h(),
             dt: spec.dt,
             dofs: problem.n(),
@@ -389,19 +398,36 @@ fn probe_row(
     }
 }
 
-/// Columns of `summary.csv` before the metrics.
+/// Columns of `summary.csv` before the metrics; the last two are machine-dependent
+/// ([`TIMING_COLUMNS`]).
 pub const RUN_COLUMNS: &[&str] = &[
     "case",
     "space",
     "scheme",
     "parameters",
+    "contact",
+    "degree",
+    "cells",
     "h",
     "dt",
     "dofs",
     "steps",
     "contact_iterations",
     "wall_time_s",
+    "max_rss_mb",
 ];
+
+/// The machine-dependent columns of a summary, left out where outputs must be byte-identical.
+pub const TIMING_COLUMNS: [&str; 2] = ["wall_time_s", "max_rss_mb"];
+
+/// Peak memory in MiB as written: one decimal, empty where unknown.
+pub fn fmt_mib(bytes: f64) -> String {
+    if bytes.is_finite() {
+        format!("{:.1}", bytes / 1048576.0)
+    } else {
+        String::new()
+    }
+}
 
 /// Columns of `summary.csv`: [`RUN_COLUMNS`], then the metrics' [`METRIC_COLUMNS`].
 pub fn summary_columns() -> Vec<&'static str> {
@@ -419,12 +445,16 @@ pub fn summary_record(s: &Summary) -> Vec<String> {
         s.space.clone(),
         s.scheme.clone(),
         s.parameters.clone(),
+        s.contact.clone(),
+        s.degree.map_or(String::new(), |d| d.to_string()),
+        s.cells.clone(),
         fmt_float(Some(s.h)),
         fmt_float(Some(s.dt)),
         s.dofs.to_string(),
         s.steps.to_string(),
         s.contact_iterations.to_string(),
         format!("{:.6e}", s.wall_time),
+        fmt_mib(s.max_rss),
     ];
     v.extend(
         METRIC_COLUMNS
