@@ -38,7 +38,7 @@ struct Cli {
 enum Command {
     /// List the case files in a directory and the known spaces, schemes and contact solvers.
     List {
-        /// Directory of case files.
+        /// Directory of case files (the repository's `cases/`).
         #[arg(default_value = "cases")]
         dir: PathBuf,
     },
@@ -48,9 +48,13 @@ enum Command {
         /// Output directory.
         #[arg(long, default_value = "reports")]
         out: PathBuf,
-        /// Directory of the case files.
+        /// Directory of the case files (the repository's `cases/`).
         #[arg(long, default_value = "cases")]
         cases: PathBuf,
+        /// Only this case (a case file's name without `.toml`, e.g. `bar1d`); repeat the flag
+        /// for several.
+        #[arg(long = "case", value_name = "NAME")]
+        case: Vec<String>,
         /// Only the first `quick_levels` levels of every sweep (under a minute).
         #[arg(long)]
         quick: bool,
@@ -134,13 +138,14 @@ enum Command {
     },
 }
 
-fn list(dir: &PathBuf) -> Result<()> {
-    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| dyncontact::Error::io(dir, e))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    entries.sort();
+/// The case files of `dir` and the registries; where `dir` cannot be read (outside the
+/// repository), the registries and, on stderr, where the case files are expected and how to
+/// point at them.
+fn list(dir: &Path) -> Result<()> {
+    let entries = cases::case_paths(dir).unwrap_or_else(|e| {
+        eprintln!("{e}");
+        Vec::new()
+    });
     for p in entries {
         match cases::load(&p, &Overrides::default()) {
             Ok(c) => say!(
@@ -167,22 +172,11 @@ fn list(dir: &PathBuf) -> Result<()> {
     Ok(())
 }
 
-/// `kind: a (p=default, …), b, …` of a method registry.
+/// `kind: a (p=default;…), b, …` of a method registry (parameters spelt as in the records).
 fn print_registry<T: ?Sized, I>(kind: &str, registry: &[dyncontact::param::Entry<T, I>]) {
     let entries: Vec<String> = registry
         .iter()
-        .map(|e| {
-            let p: Vec<String> = e
-                .params
-                .iter()
-                .map(|p| format!("{}={}", p.name, p.default))
-                .collect();
-            if p.is_empty() {
-                e.name.to_string()
-            } else {
-                format!("{} ({})", e.name, p.join(", "))
-            }
-        })
+        .map(|e| run::method_label(e.name, &e.describe(&Default::default())))
         .collect();
     say!("{kind}: {}", entries.join(", "));
 }
@@ -251,6 +245,7 @@ fn main_result(cli: Cli) -> Result<()> {
         Command::Report {
             out,
             cases,
+            case,
             quick,
             resume,
         } => {
@@ -258,7 +253,7 @@ fn main_result(cli: Cli) -> Result<()> {
                 quick,
                 progress: true,
                 resume,
-                cases: Vec::new(),
+                cases: case,
             };
             let records = dyncontact::report::report(&cases, &out, &opts)?;
             say!(
@@ -317,11 +312,18 @@ fn main_result(cli: Cli) -> Result<()> {
             let s = &result.summary;
             let m = &s.metrics;
             say!(
-                "{} {} {} ({}): {} dofs, {} steps in {:.3} s; energy drift {:.3e}, max penetration {:.3e}",
-                s.case, s.space, s.scheme, s.parameters, s.dofs, s.steps, s.wall_time, m.energy_drift, m.max_penetration
+                "{} {} {}: {} dofs, {} steps in {:.3} s; energy drift {}; max penetration {:.3e}",
+                s.case,
+                s.space,
+                s.method(),
+                s.dofs,
+                s.steps,
+                s.wall_time,
+                m.drift(),
+                m.max_penetration
             );
             say!(
-                "wrote {}/{{timeseries.csv, summary.csv, energy.png, contact.png}}",
+                "wrote {}/{{timeseries.csv, summary.csv, energy.png, contact.png}} (and the PNGs as SVG)",
                 out.display()
             );
             if let Some(f) = &fields {

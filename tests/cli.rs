@@ -321,3 +321,99 @@ fn a_closed_stdout_pipe_ends_the_program_quietly() {
     assert!(!stderr.contains("panicked"), "panic: {stderr}");
     assert!(out.status.success(), "{:?}: {stderr}", out.status);
 }
+
+/// Outside the repository `list` still lists the methods, and says where the case files are
+/// expected and how to point at them; `report` refuses with the same words.
+#[test]
+fn list_outside_the_repository_says_where_the_case_files_are() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
+        .arg("list")
+        .current_dir(dir.path())
+        .output()
+        .expect("binary runs");
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(out.status.success(), "{stderr}");
+    assert!(stdout.contains("spaces: standard") && stdout.contains("newmark (beta="));
+    for needle in [
+        "no case files at",
+        "cases/",
+        "dyncontact list DIR",
+        "--cases DIR",
+    ] {
+        assert!(stderr.contains(needle), "`{needle}` not in: {stderr}");
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
+        .args(["report", "--quick", "--out", "r"])
+        .current_dir(dir.path())
+        .output()
+        .expect("binary runs");
+    assert_clear_error(&out, "--cases DIR");
+}
+
+/// `report --case NAME` runs the named cases only; an unknown name is refused with the known.
+#[test]
+fn report_runs_the_cases_named_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("r");
+    let out = dyncontact(&[
+        "report",
+        "--quick",
+        "--case",
+        "spring_mass",
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary = std::fs::read_to_string(o.join("summary.csv")).unwrap();
+    assert_eq!(summary.lines().count(), 1 + 7 * 3, "spring_mass only");
+    assert!(summary
+        .lines()
+        .skip(1)
+        .all(|l| l.starts_with("spring_mass-")));
+    assert!(o.join("cases/spring_mass.toml").exists());
+    assert!(
+        !o.join("cross_code.csv").exists(),
+        "no GetFEM comparison of the bar and block"
+    );
+    let out = dyncontact(&[
+        "report",
+        "--quick",
+        "--case",
+        "bar2d",
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert_clear_error(&out, "--case");
+    assert_clear_error(&out, "known: bar1d, block2d");
+}
+
+/// The headline of `run`: the drift outside the impact steps when one impact step's dip would
+/// dominate (Paoli–Schatzman on the spring: 0.96 over every step, 2.5e-5 outside), the other
+/// beside it.
+#[test]
+fn run_prints_the_drift_that_says_whether_the_energy_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("ps");
+    let out = dyncontact(&[
+        "run",
+        "cases/spring_mass.toml",
+        "--scheme",
+        "paoli_schatzman",
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    assert!(
+        stdout.contains("energy drift 2.500e-5 outside impact steps (9.637e-1 over every step)"),
+        "{stdout}"
+    );
+}
