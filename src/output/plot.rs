@@ -679,7 +679,7 @@ pub(crate) fn draw_chart<DB: DrawingBackend>(
             }
             if (yr.0..=yr.1).contains(&p.1) {
                 draw_marker(&root, mapping.pixel(p), &s.style, extras.marker)?;
-            } else if y.log && p.1.is_finite() {
+            } else if y.log && !p.1.is_nan() {
                 let (edge, marker) = if p.1 > yr.1 {
                     (yr.1, Marker::TriangleUp)
                 } else {
@@ -789,14 +789,12 @@ pub(crate) fn draw_legend<DB: DrawingBackend>(
         };
         draw_line(area, vec![(6, y), (40, y)], &sample, width)?;
         draw_marker(area, (23, y), &sample, 5)?;
-        for (k, line) in wrap(area, &s.label, &font, text_width).iter().enumerate() {
+        let lines = wrap(area, &s.label, &font, text_width);
+        for (k, line) in lines.iter().enumerate() {
             area.draw_text(line, &style, (48, y - 8 + 18 * k as i32))
                 .map_err(text)?;
-            if k > 0 {
-                y += 18;
-            }
         }
-        y += 26;
+        y += 18 * (lines.len() as i32 - 1) + 26;
     }
     if let Some(note) = note {
         let grey = BLACK.mix(0.75);
@@ -1014,7 +1012,7 @@ impl Picture for LogLogPlot<'_> {
             .map_err(text)?;
         let all: Vec<&Series> = self.series.iter().collect();
         let note = self.off_scale.then_some(
-            "▲ ▼ hollow, at an edge: a level whose error is off the scale (above or below it).",
+            "▲ ▼ hollow, at an edge: a level whose error is off the scale (above or below it); ▲ also a level that diverged.",
         );
         draw_legend(&legend, &all, note, 2)
     }
@@ -1038,7 +1036,11 @@ pub fn loglog_plot(path: &Path, axes: LogLog<'_>, series: &[Series]) -> Result<(
     let (x0, x1) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
         (a.min(p.0), b.max(p.0))
     });
-    let off_scale = ys.iter().any(|y| *y < y0 || *y > y1);
+    // Off the scale: a finite error outside the clamped range, or a diverged level (+∞).
+    let off_scale = series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .any(|p| p.1 > 0.0 && (p.1 < y0 || p.1 > y1));
     // The triangle below the data, at the smallest x.
     let (xa, ya) = (x0, y0 * 0.55);
     let (xb, yb) = (2.0 * x0, ya * 2f64.powf(axes.slope));

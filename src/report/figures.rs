@@ -146,18 +146,24 @@ pub fn convergence_figures(
                 .find(|o| o.case == case && o.sweep == sweep && o.quantity == quantity)
                 .map_or_else(String::new, |o| o.reference.clone());
             let series_of = |keep: &dyn Fn(&Summary) -> bool, label: String, style: Style| {
+                // A level that diverged is drawn at +∞: marked at the top edge.
                 let pts: Vec<(f64, f64)> = rs
                     .iter()
-                    .filter(|r| r.status == Status::Ok && keep(&r.summary))
+                    .filter(|r| keep(&r.summary))
                     .filter_map(|r| {
                         let s = &r.summary;
                         let x = if s.h.is_finite() { s.h } else { s.dt };
-                        get(&s.metrics)
-                            .filter(|e| *e > 0.0 && e.is_finite())
-                            .map(|e| (x, e))
+                        match r.status {
+                            Status::Ok => get(&s.metrics)
+                                .filter(|e| *e > 0.0 && e.is_finite())
+                                .map(|e| (x, e)),
+                            Status::Diverged => Some((x, f64::INFINITY)),
+                            _ => None,
+                        }
                     })
                     .collect();
-                (pts.len() >= 2).then(|| Series::new(label, pts, style))
+                let finite = pts.iter().filter(|p| p.1.is_finite()).count();
+                (finite >= 2).then(|| Series::new(label, pts, style))
             };
             let plot = ConvergencePlot {
                 out,
@@ -253,9 +259,9 @@ impl ConvergencePlot<'_> {
         )?;
         let labels: Vec<&str> = series.iter().map(|s| s.label.as_str()).collect();
         let coincide = match spread(&series) {
-            Some(d) if series.len() > 1 && d < 1e-6 => format!(
-                " The {} curves coincide (largest relative difference {d:.1e}): the {per} does \
-                 not change this error here.",
+            Some(d) if series.len() > 1 && d < 1e-3 => format!(
+                " The {} curves coincide to the eye (largest relative difference {d:.1e}): the \
+                 {per} does not change this error here.",
                 series.len()
             ),
             _ => String::new(),
@@ -276,8 +282,9 @@ impl ConvergencePlot<'_> {
             ),
             caption: format!(
                 "{case}, sweep `{sweep}`: {} (`{}`{against}) against {x}, one curve per {per}, \
-                 {common}; a level is drawn when its run finished with a positive error. The \
-                 triangle has slope {slope}.{coincide}",
+                 {common}; a level is drawn when its run finished with a positive error, one \
+                 that diverged is marked ▲ at the top edge. The triangle has slope \
+                 {slope}.{coincide}",
                 n.axis, n.key
             ),
         }))
