@@ -2,10 +2,7 @@
 //! equal x and y scales (viridis colour scale with its bar, reference curves drawn over it), and
 //! a scatter of point values with reference curves.
 
-use super::plot::{
-    draw_chart, draw_legend, draw_line, plot_err, save, text, Axis, Extras, Picture, Series,
-    Ticked, LEGEND,
-};
+use super::plot::{draw_line, plot_err, save, text, Axis, Chart, Extras, Picture, Series, Ticked};
 use crate::error::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -175,41 +172,6 @@ pub fn cell_map(path: &Path, labels: Labels<'_>, cells: &[Cell], overlay: &[Seri
     )
 }
 
-/// Points and reference curves against a linear x from 0, legend beside the axes.
-struct Scatter<'a> {
-    labels: Labels<'a>,
-    series: &'a [Series],
-    x: Axis,
-    y: Axis,
-}
-
-impl Picture for Scatter<'_> {
-    fn size(&self) -> (u32, u32) {
-        (1000 + LEGEND, 560)
-    }
-
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: &DrawingArea<DB, Shift>,
-    ) -> std::result::Result<(), String> {
-        let (plot, legend) = root.split_horizontally(1000);
-        let extras = Extras {
-            width: 2,
-            marker: 3,
-            spread: 0,
-        };
-        draw_chart(
-            &plot,
-            self.labels.title,
-            (&self.x, &self.y),
-            self.series,
-            extras,
-        )?;
-        let all: Vec<&Series> = self.series.iter().collect();
-        draw_legend(&legend, &all, None, 2)
-    }
-}
-
 /// Point values (a series with marks and no line) and reference curves, on axes from 0, legend
 /// beside them.
 pub fn scatter_plot(path: &Path, labels: Labels<'_>, series: &[Series]) -> Result<()> {
@@ -228,11 +190,19 @@ pub fn scatter_plot(path: &Path, labels: Labels<'_>, series: &[Series]) -> Resul
     };
     save(
         path,
-        &Scatter {
-            labels,
+        &Chart {
+            title: labels.title,
             series,
             x: axis(labels.x, 1.05 * x1),
             y: axis(labels.value, 1.1 * y1),
+            extras: Extras {
+                width: 2,
+                marker: 3,
+                spread: 0,
+            },
+            height: 560,
+            triangle: None,
+            note: None,
         },
     )
 }

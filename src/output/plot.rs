@@ -516,7 +516,7 @@ fn marker_outline(marker: Marker, r: i32) -> Vec<(i32, i32)> {
 }
 
 /// Draws `marker` centred at pixel `(x, y)` of `area`.
-pub(crate) fn draw_marker<DB: DrawingBackend>(
+fn draw_marker<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     (x, y): (i32, i32),
     style: &Style,
@@ -613,7 +613,7 @@ pub(crate) struct Extras {
 
 /// Axes with title and curves on `area`: the curves clipped to the axes, their marks, points off
 /// a log axis marked at its edge. Returns the pixel mapping for further drawing.
-pub(crate) fn draw_chart<DB: DrawingBackend>(
+fn draw_chart<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     title: &str,
     (x, y): (&Axis, &Axis),
@@ -767,11 +767,11 @@ impl Mapping {
 }
 
 /// Width of the legend column beside the axes.
-pub(crate) const LEGEND: u32 = 270;
+const LEGEND: u32 = 270;
 
 /// The legend of `series` in its own area: each entry drawn as its curve is (line with its dash
 /// and a mark), its label wrapped to the column; a note when marks were drawn at an edge.
-pub(crate) fn draw_legend<DB: DrawingBackend>(
+fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     series: &[&Series],
     note: Option<&str>,
@@ -847,17 +847,30 @@ fn wrap<DB: DrawingBackend>(
     lines
 }
 
-/// A line plot of several series against time, legend on the right.
-struct TimePlot<'a> {
-    title: &'a str,
-    series: &'a [Series],
-    x: Axis,
-    y: Axis,
+/// Axes with their curves and, beside them, the legend (and a note under it); a slope
+/// triangle on a log–log chart.
+pub(crate) struct Chart<'a> {
+    /// Title.
+    pub title: &'a str,
+    /// Curves.
+    pub series: &'a [Series],
+    /// Axes.
+    pub x: Axis,
+    /// Axes.
+    pub y: Axis,
+    /// Widths and marks.
+    pub extras: Extras,
+    /// Height in pixels (the chart is 1000 wide, the legend [`LEGEND`]).
+    pub height: u32,
+    /// Slope triangle: slope and corners (values; log–log charts only).
+    pub triangle: Option<(f64, [(f64, f64); 3])>,
+    /// A note under the legend.
+    pub note: Option<&'a str>,
 }
 
-impl Picture for TimePlot<'_> {
+impl Picture for Chart<'_> {
     fn size(&self) -> (u32, u32) {
-        (1000 + LEGEND, 560)
+        (1000 + LEGEND, self.height)
     }
 
     fn draw<DB: DrawingBackend>(
@@ -865,15 +878,43 @@ impl Picture for TimePlot<'_> {
         root: &DrawingArea<DB, Shift>,
     ) -> std::result::Result<(), String> {
         let (plot, legend) = root.split_horizontally(1000);
-        let extras = Extras {
-            width: 1,
-            marker: 5,
-            spread: 10,
-        };
-        draw_chart(&plot, self.title, (&self.x, &self.y), self.series, extras)?;
+        let m = draw_chart(
+            &plot,
+            self.title,
+            (&self.x, &self.y),
+            self.series,
+            self.extras,
+        )?;
+        if let Some((slope, corners)) = self.triangle {
+            draw_triangle(&plot, &m, slope, corners)?;
+        }
         let all: Vec<&Series> = self.series.iter().collect();
-        draw_legend(&legend, &all, None, 1)
+        draw_legend(&legend, &all, self.note, self.extras.width)
     }
+}
+
+/// The slope triangle `a b c` (log–log values) with its slope written beside the vertical leg
+/// and 1 under the horizontal one.
+fn draw_triangle<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    m: &Mapping,
+    slope: f64,
+    [a, b, c]: [(f64, f64); 3],
+) -> std::result::Result<(), String> {
+    let at = |p: (f64, f64)| m.pixel((p.0.log10(), p.1.log10()));
+    let area = area.strip_coord_spec();
+    draw_line(
+        &area,
+        vec![at(a), at(b), at(c), at(a)],
+        &Style::line(BLACK),
+        1,
+    )?;
+    let font = TextStyle::from(("sans-serif", 15).into_font()).color(&BLACK);
+    let ((ax, _), (bx, by), (_, cy)) = (at(a), at(b), at(c));
+    area.draw_text(&slope.to_string(), &font, (bx + 6, (by + cy) / 2 - 8))
+        .map_err(text)?;
+    area.draw_text("1", &font, ((ax + bx) / 2 - 4, by + 4))
+        .map_err(text)
 }
 
 /// The axes of a plot against time over the series that did not diverge.
@@ -900,14 +941,25 @@ pub fn time_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> 
     let (x, y) = time_axes(series, y_label).ok_or_else(|| plot_err(path, "nothing to plot"))?;
     save(
         path,
-        &TimePlot {
+        &Chart {
             title,
             series,
             x,
             y,
+            extras: TIME_EXTRAS,
+            height: 560,
+            triangle: None,
+            note: None,
         },
     )
 }
+
+/// Curves against time: thin, ten marks each.
+const TIME_EXTRAS: Extras = Extras {
+    width: 1,
+    marker: 5,
+    spread: 10,
+};
 
 /// Panels side by side, one chart per `(title, series)` with its own y range, all against
 /// time; one legend (the curves of the first panel) on the right.
@@ -926,13 +978,8 @@ impl Picture for Panels<'_> {
     ) -> std::result::Result<(), String> {
         let (charts, legend) = root.split_horizontally(480 * self.panels.len() as u32);
         let areas = charts.split_evenly((1, self.panels.len()));
-        let extras = Extras {
-            width: 1,
-            marker: 5,
-            spread: 10,
-        };
         for ((title, series, x, y), area) in self.panels.iter().zip(&areas) {
-            draw_chart(area, title, (x, y), series, extras)?;
+            draw_chart(area, title, (x, y), series, TIME_EXTRAS)?;
         }
         let first: Vec<&Series> = self
             .panels
@@ -967,57 +1014,6 @@ pub struct LogLog<'a> {
     pub slope: f64,
 }
 
-/// A log–log convergence plot with its slope triangle.
-struct LogLogPlot<'a> {
-    title: &'a str,
-    series: &'a [Series],
-    x: Axis,
-    y: Axis,
-    /// Slope and the triangle's corners (values).
-    triangle: (f64, [(f64, f64); 3]),
-    off_scale: bool,
-}
-
-impl Picture for LogLogPlot<'_> {
-    fn size(&self) -> (u32, u32) {
-        (1000 + LEGEND, 620)
-    }
-
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: &DrawingArea<DB, Shift>,
-    ) -> std::result::Result<(), String> {
-        let (plot, legend) = root.split_horizontally(1000);
-        let extras = Extras {
-            width: 2,
-            marker: 5,
-            spread: 0,
-        };
-        let m = draw_chart(&plot, self.title, (&self.x, &self.y), self.series, extras)?;
-        let (slope, [a, b, c]) = self.triangle;
-        let at = |p: (f64, f64)| m.pixel((p.0.log10(), p.1.log10()));
-        let root_area = plot.strip_coord_spec();
-        let black = Style::line(BLACK);
-        draw_line(&root_area, vec![at(a), at(b), at(c), at(a)], &black, 1)?;
-        let font = TextStyle::from(("sans-serif", 15).into_font()).color(&BLACK);
-        let (bx, by) = at(b);
-        let (_, cy) = at(c);
-        let label = format!("{}", slope);
-        root_area
-            .draw_text(&label, &font, (bx + 6, (by + cy) / 2 - 8))
-            .map_err(text)?;
-        let (ax, _) = at(a);
-        root_area
-            .draw_text("1", &font, ((ax + bx) / 2 - 4, by + 4))
-            .map_err(text)?;
-        let all: Vec<&Series> = self.series.iter().collect();
-        let note = self.off_scale.then_some(
-            "▲ ▼ hollow, at an edge: a level whose error is off the scale (above or below it); ▲ also a level that diverged.",
-        );
-        draw_legend(&legend, &all, note, 2)
-    }
-}
-
 /// Log–log plot of errors against the mesh size or time step, one series per label (marks at
 /// every level), with a slope triangle (legs over one factor 2 of x, its slope written beside
 /// it) below the data. The y range is clamped by [`clamp_log`]; points outside are marked at
@@ -1048,7 +1044,7 @@ pub fn loglog_plot(path: &Path, axes: LogLog<'_>, series: &[Series]) -> Result<(
     let (bottom, top) = (ya / 2.5, y1.max(yb) * 1.6);
     save(
         path,
-        &LogLogPlot {
+        &Chart {
             title: axes.title,
             series,
             x: Axis {
@@ -1063,8 +1059,17 @@ pub fn loglog_plot(path: &Path, axes: LogLog<'_>, series: &[Series]) -> Result<(
                 hi: top,
                 log: true,
             },
-            triangle: (axes.slope, [(xa, ya), (xb, ya), (xb, yb)]),
-            off_scale,
+            extras: Extras {
+                width: 2,
+                marker: 5,
+                spread: 0,
+            },
+            height: 620,
+            triangle: Some((axes.slope, [(xa, ya), (xb, ya), (xb, yb)])),
+            note: off_scale.then_some(
+                "▲ ▼ hollow, at an edge: a level whose error is off the scale (above or below \
+                 it); ▲ also a level that diverged.",
+            ),
         },
     )
 }
