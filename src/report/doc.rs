@@ -527,7 +527,8 @@ table{border-collapse:collapse;font-size:0.9em}\
 td,th{border:1px solid #bbb;padding:3px 7px;vertical-align:top}th{background:#f0f0f0}\
 td.good{background:#d7f0dc}td.fair{background:#fff1c2}td.bad{background:#f7d4d4}\
 td.missing{background:#eee;color:#666}\
-.chip{display:inline-block;padding:0 4px;margin:1px 0;border-radius:3px;white-space:nowrap}\
+.chip{display:inline-block;padding:0 4px;margin:1px 0;border-radius:3px;white-space:nowrap;\
+font-size:0.95em}\
 .chip.good{background:#cdeccf}.chip.fair{background:#ffe9a8}.chip.bad{background:#f5c6c6}\
 .chip.missing{background:#e4e4e4;color:#555}\
 figure{margin:1.5em 0}img{max-width:100%;height:auto;border:1px solid #ddd}\

@@ -39,9 +39,9 @@ pub fn cell_text(o: &Order) -> (String, Tone) {
     let text = match (v, o.fit) {
         (Verdict::Stalls, Some((order, _))) => format!("{order:.2} {m} stalls"),
         (_, Some((order, _))) if v.is_order() => format!("{order:.2} {m}"),
-        (Verdict::Grows, _) => format!("{m} error grows"),
-        (Verdict::Flat, _) => format!("{m} flat error"),
-        (Verdict::Irregular, Some((_, r))) => format!("{m} irregular (residual {r:.2})"),
+        (Verdict::Grows, _) => format!("{m} grows"),
+        (Verdict::Flat, _) => format!("{m} flat"),
+        (Verdict::Irregular, _) => format!("{m} irregular"),
         _ => format!("{m} too few levels"),
     };
     (text, tone)
@@ -152,8 +152,8 @@ pub fn findings(
          the energy drift of the finest level. ✓ (green): converges at the expected order (at \
          least {:.0} % of its lower end) or, where none is known, at order ≥ {}; ~ (amber): \
          converges more slowly than expected; ✗ (red): does not converge: an order below {} \
-         (\"stalls\"), or a fit that is not an order and is flagged instead: an error that grows, a finest error \
-         within {:.0} % of the coarsest (\"flat error\"), a fit residual above {} in ln \
+         (\"stalls\"), or a fit that is not an order and is flagged instead: an error that grows (\"grows\"), a \
+         finest error within {:.0} % of the coarsest (\"flat\"), a fit residual above {} in ln \
          (\"irregular\"); · (grey): fewer than two usable levels. \
          Below each case, the conclusions these numbers support, each with the claim it checks \
          and its source.",
@@ -630,8 +630,9 @@ const CLAIMS: &[Claim] = &[
                 format!(
                     "mass_redistribution, h = {:.3e}: contact duration {}, peak force {} from \
                      Hertz; from the previous level they moved by {:+.1} and {:+.1} points. \
-                     The plateau is the finite body: the case's force figure compares the run \
-                     with the quasi-static impact of the sphere's own static law.",
+                     The case's force figure compares the run with the quasi-static impact of \
+                     the sphere's own static law, the finite body that Hertz's half-space \
+                     leaves out.",
                     last.summary.h,
                     percent(tc),
                     percent(f),
