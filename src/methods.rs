@@ -111,7 +111,10 @@ impl clap::Args for Params {
                     .value_name("VALUE")
                     .value_parser(clap::value_parser!(f64))
                     .allow_negative_numbers(true)
-                    .help(format!("{} (default {})", p.help, p.default)),
+                    .help(format!(
+                        "{} (default {} where the case file does not set it)",
+                        p.help, p.default
+                    )),
             )
         })
     }
