@@ -75,6 +75,9 @@ pub enum Enforcement {
     /// An explicit step: the law on the next position through an explicit multiplier (central
     /// difference).
     Explicit,
+    /// A penalty force on the penetration: the gap is not kept non-negative (it closes by an
+    /// amount that shrinks with the penalty stiffness).
+    Penalty,
 }
 
 /// A contact formulation: how the Signorini condition enters the semi-discrete problem and

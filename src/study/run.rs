@@ -282,6 +282,7 @@ struct Snapshot {
     /// The energy displacement when it is not U itself (three-level schemes).
     energy_u: Option<Vec<f64>>,
     lambda: Vec<f64>,
+    extra_energy: f64,
 }
 
 impl Snapshot {
@@ -291,6 +292,7 @@ impl Snapshot {
             dst.extend_from_slice(src);
         };
         self.t = s.t;
+        self.extra_energy = s.extra_energy;
         copy(&mut self.u, s.u);
         copy(&mut self.v, s.v);
         copy(&mut self.lambda, s.lambda);
@@ -309,6 +311,7 @@ impl Snapshot {
             v: &self.v,
             energy_u: self.energy_u.as_deref().unwrap_or(&self.u),
             lambda: &self.lambda,
+            extra_energy: self.extra_energy,
         }
     }
 }
@@ -383,7 +386,7 @@ fn probe_row(
         u_contact: s.u[p.u_dof],
         v_contact: s.v[p.w_dof],
         sigma_contact: problem.contact_stress(s.lambda, p.contact),
-        energy: probe.energy.energy(s.energy_u, s.v),
+        energy: probe.energy.energy(s.energy_u, s.v) + s.extra_energy,
         gap: problem.contact.g0[p.contact]
             - probe.b_row.iter().map(|&(j, v)| v * s.u[j]).sum::<f64>(),
         force_contact: s.lambda.iter().sum(),

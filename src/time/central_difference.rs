@@ -9,12 +9,13 @@
 //!
 //! Stable for `Δt ≤ 2/ω_max`, `ω²_max = λ_max(K_RR, M_RR)` (an upper bound of the condensed
 //! problem's, so the limit is safe), estimated before the run by a power iteration with the
-//! Rayleigh quotient; a Δt above [`CFL_SAFETY`] times that limit is an "unstable time step" error. Needs a sparse mass
-//! (standard, lumped, mass_redistribution, mass_elimination) and contact dofs that are all massive
-//! or all massless. Reports the half-step velocity and the midpoint energy like
+//! Rayleigh quotient ([`cfl`]); a Δt above [`CFL_SAFETY`] times that limit is an "unstable time
+//! step" error. Needs a sparse mass (standard, lumped, mass_redistribution, mass_elimination) and
+//! contact dofs that are all massive or all massless. Reports the half-step velocity and the midpoint energy like
 //! [`super::paoli_schatzman`].
 
 use super::scheme::{Integrator, Scheme, State, StepInfo};
+use super::step::cfl::{self, zero_where, CFL_SAFETY};
 use super::step::{time_step, Stepper, ThreeLevel};
 use super::step::{ContactStep, LinearSolver};
 use crate::contact::Enforcement;
@@ -22,11 +23,6 @@ use crate::error::{Error, Result};
 use crate::linalg::{self, SpMat, TripletBuilder};
 use crate::param::Entry;
 use crate::problem::Problem;
-
-/// Power iterations of the CFL estimate (the Rayleigh quotient converges from below).
-pub const CFL_ITERATIONS: usize = 300;
-/// Safety factor on the estimated limit (the Rayleigh quotient underestimates ω²_max slightly).
-pub const CFL_SAFETY: f64 = 0.99;
 
 /// Registry entry: `central_difference` (no parameter).
 pub const ENTRY: Entry<dyn Scheme> = Entry {
@@ -79,16 +75,7 @@ impl Scheme for CentralDifference {
         let mut system =
             ContactStep::with_stiffness(problem, &k_ss, (1.0, dt * dt), dt * dt, contact)?;
         let dt_max = CFL_SAFETY * critical_time_step(problem, m, &mut system, &massless)?;
-        if dt > dt_max {
-            return Err(Error::invalid(
-                "dt",
-                dt,
-                &format!(
-                    "unstable time step: central_difference needs dt ≤ {CFL_SAFETY}·2/ω_max = \
-                     {dt_max:.6e} (CFL limit of this mesh and mass)"
-                ),
-            ));
-        }
+        cfl::check_time_step(self.name(), dt, dt_max, "this mesh and mass")?;
         let levels = ThreeLevel::start(problem, dt)?;
         let s = Stepper::new(problem, dt, system)?;
         let n = problem.n();
@@ -116,15 +103,6 @@ fn check_contact_dofs(problem: &Problem, massless: &[bool]) -> Result<()> {
     Ok(())
 }
 
-/// `x_i = 0` wherever `mask_i`.
-fn zero_where(x: &mut [f64], mask: &[bool]) {
-    for (xi, &m) in x.iter_mut().zip(mask) {
-        if m {
-            *xi = 0.0;
-        }
-    }
-}
-
 /// `K_SS` embedded in an n × n matrix (zero outside the massless block).
 fn restrict(k: &SpMat, massless: &[bool]) -> Result<SpMat> {
     let mut t = TripletBuilder::new(k.nrows(), k.ncols());
@@ -136,44 +114,24 @@ fn restrict(k: &SpMat, massless: &[bool]) -> Result<SpMat> {
     t.build()
 }
 
-/// `2/ω_max` with `ω²_max` the largest eigenvalue of `(K_RR, M_RR)`, by power iteration
-/// `x ← M_RR⁻¹ K_RR x` (the R block of A⁻¹ is `M_RR⁻¹`) and its Rayleigh quotient.
+/// `2/ω_max` with `ω²_max` the largest eigenvalue of `(K_RR, M_RR)` (the R block of A⁻¹ is
+/// `M_RR⁻¹`).
 fn critical_time_step(
     problem: &Problem,
     m: &SpMat,
     system: &mut ContactStep,
     massless: &[bool],
 ) -> Result<f64> {
-    let n = problem.n();
-    // A deterministic start with every mode present.
-    let mut x: Vec<f64> = (0..n)
-        .map(|i| 1.0 + ((i * 7919) % 13) as f64 / 13.0)
-        .collect();
-    zero_where(&mut x, massless);
-    let (mut kx, mut w) = (vec![0.0; n], vec![0.0; n]);
-    let mut omega2 = 0.0;
-    for _ in 0..CFL_ITERATIONS {
-        kx.fill(0.0);
-        linalg::mul_add(&mut kx, &problem.k, &x, 1.0);
-        let mx = linalg::quad(m, &x, &x);
-        if mx <= 0.0 {
-            return Ok(f64::INFINITY);
-        }
-        omega2 = f64::max(omega2, linalg::dot(&x, &kx) / mx);
-        zero_where(&mut kx, massless);
-        system.solve_free(&kx, &mut x, &mut w)?;
-        zero_where(&mut x, massless);
-        let norm = linalg::dot(&x, &x).sqrt();
-        if norm == 0.0 || !norm.is_finite() {
-            break;
-        }
-        x.iter_mut().for_each(|v| *v /= norm);
-    }
-    Ok(if omega2 > 0.0 {
-        2.0 / omega2.sqrt()
-    } else {
-        f64::INFINITY
-    })
+    let mut w = vec![0.0; problem.n()];
+    cfl::critical_time_step(
+        massless,
+        |x, kx| {
+            kx.fill(0.0);
+            linalg::mul_add(kx, &problem.k, x, 1.0);
+        },
+        |x| linalg::quad(m, x, x),
+        |r, x| system.solve_free(r, x, &mut w),
+    )
 }
 
 struct CentralDifferenceIntegrator<'p> {

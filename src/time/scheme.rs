@@ -34,6 +34,9 @@ pub struct State<'a> {
     pub energy_u: &'a [f64],
     /// Contact pressures λ (nodal forces, ≥ 0) at the current time level.
     pub lambda: &'a [f64],
+    /// Energy stored by the scheme's own contact law (a penalty energy `½ κ [−g]₊²`), added to
+    /// the problem's energy (evaluated at `energy_u`, `v`) in the reported energy; 0 otherwise.
+    pub extra_energy: f64,
 }
 
 /// A prepared scheme on one problem.

@@ -1,6 +1,8 @@
 //! The toolkit a scheme's file is written with: the state and bookkeeping of a step
-//! ([`stepper`]), and the constant step operator with its contact coupling ([`contact_step`]),
-//! solved directly ([`direct`]) or by CG ([`iterative`]).
+//! ([`stepper`]), the constant step operator with its contact coupling ([`contact_step`]),
+//! solved directly ([`direct`]) or by CG ([`iterative`]), the stability limit of the explicit
+//! schemes ([`cfl`]) and the explicit step with a lumped mass and a contact force at t_n
+//! ([`explicit`]).
 //!
 //! Each step of an implicit scheme solves `A X = r − c B_Nᵀ λ` (`A = m M + k K` constant) with
 //! λ from a complementarity law on `o − B_N X` ([`ContactStep::solve`]); the offsets `o` carry
@@ -10,14 +12,18 @@
 //! - velocity with an index set (Moreau–Jean): `o_i = −e (B_N V_n)_i` on the set, `+∞` off it
 //!   (excluded: λ_i = 0); a persistency law on gap increments takes `o = g₀ − g_n` on its set;
 //! - an explicit multiplier (central difference): `A` holds only the massless block of K;
+//! - an explicit force at t_n with a lumped mass and a law of the scheme's own (forward-increment
+//!   multiplier, velocity correction, penalty): no step operator, [`explicit`];
 //! - a projection in a norm (a predictor `argmin ‖w − x‖_M` over the admissible set): a second
 //!   [`ContactStep`] with `A = M`.
 //!
 //! The law itself is the formulation's ([`crate::contact::Solver`]), or one the scheme passes
 //! ([`ContactStep::solve_with`]).
 
+pub mod cfl;
 pub mod contact_step;
 pub mod direct;
+pub mod explicit;
 pub mod iterative;
 pub mod stepper;
 

@@ -105,6 +105,7 @@ impl<'p> Stepper<'p> {
             v: &self.v,
             energy_u,
             lambda: &self.lambda,
+            extra_energy: 0.0,
         }
     }
 }
