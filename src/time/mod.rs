@@ -12,6 +12,7 @@
 //! | `central_difference` | [`central_difference`] | 2, CFL-limited | position, t_{n+1} |
 
 pub mod backward_euler;
+pub mod carpenter;
 pub mod central_difference;
 pub mod hht;
 pub mod laursen_chawla;
@@ -35,6 +36,7 @@ pub const SCHEMES: &[Entry<dyn Scheme>] = &[
     moreau_jean::ENTRY,
     central_difference::ENTRY,
     laursen_chawla::ENTRY,
+    carpenter::ENTRY,
 ];
 
 /// The registry entry of the scheme called `name`.
