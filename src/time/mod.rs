@@ -21,6 +21,7 @@ pub mod newmark;
 pub mod paoli_schatzman;
 pub mod scheme;
 pub mod step;
+pub mod taylor_flanagan;
 
 use crate::error::Result;
 use crate::param::{Entry, Params};
@@ -37,6 +38,7 @@ pub const SCHEMES: &[Entry<dyn Scheme>] = &[
     central_difference::ENTRY,
     laursen_chawla::ENTRY,
     carpenter::ENTRY,
+    taylor_flanagan::ENTRY,
 ];
 
 /// The registry entry of the scheme called `name`.
