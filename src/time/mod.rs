@@ -14,6 +14,7 @@
 pub mod backward_euler;
 pub mod carpenter;
 pub mod central_difference;
+pub mod explicit_penalty;
 pub mod hht;
 pub mod laursen_chawla;
 pub mod moreau_jean;
@@ -39,6 +40,7 @@ pub const SCHEMES: &[Entry<dyn Scheme>] = &[
     laursen_chawla::ENTRY,
     carpenter::ENTRY,
     taylor_flanagan::ENTRY,
+    explicit_penalty::ENTRY,
 ];
 
 /// The registry entry of the scheme called `name`.
