@@ -2,6 +2,7 @@
 //! kernels, local-to-global scatter, boundary quadrature and the discretisation of a body.
 
 pub mod assembly;
+pub mod bodies;
 pub mod boundary;
 pub mod discretisation;
 pub mod dofs;

@@ -200,10 +200,20 @@ pub fn rank(m: &DMatrix<f64>) -> usize {
 /// The inf-sup rank condition `rank [B; e_cᵀ] = rank B + 1` for every contact dof c (dense SVD:
 /// a diagnostic for small meshes only).
 pub fn inf_sup_holds(b: &DMatrix<f64>, contact_dofs: &[usize]) -> bool {
+    let rows: Vec<Vec<(usize, f64)>> = contact_dofs.iter().map(|&c| vec![(c, 1.0)]).collect();
+    inf_sup_holds_rows(b, &rows)
+}
+
+/// The inf-sup rank condition on constraint rows `b_c` that may couple several dofs (two
+/// bodies: a slave dof and its master face's, [`crate::fem::bodies`]):
+/// `rank [B; b_cᵀ] = rank B + 1` for every row.
+pub fn inf_sup_holds_rows(b: &DMatrix<f64>, rows: &[Vec<(usize, f64)>]) -> bool {
     let rb = rank(b);
-    contact_dofs.iter().all(|&c| {
+    rows.iter().all(|row| {
         let mut ext = b.clone().insert_row(b.nrows(), 0.0);
-        ext[(b.nrows(), c)] = 1.0;
+        for &(j, v) in row {
+            ext[(b.nrows(), j)] = v;
+        }
         rank(&ext) == rb + 1
     })
 }

@@ -1,0 +1,451 @@
+//! Several elastic bodies as one semi-discrete problem (DESIGN.md §1, §8;
+//! `notes/papers/two_body_contact.md`): the dofs of body b follow those of the bodies before it,
+//! `U = (U₁, U₂, …)`, the element data and the stiffness are block diagonal,
+//! `M̃ = diag(M̃₁, M̃₂)`, `K = diag(K₁, K₂)`, and the contact rows pair the two bodies' Γ_C
+//! node-to-segment (small deformations: pairing, projection and normals in the reference
+//! configuration). Slave vertex s, master face F with vertices k, shape functions `N_k(ξ_s)` at
+//! the orthogonal projection ξ_s of X_s on F, unit outward master normal `n_m` (towards the slave):
+//!
+//! `g = g₀ − B_N U ≥ 0`, `g₀ = (X_s − X_m(ξ_s))·n_m`, row of `B_N`: `−n_mᵀ` on s, `+N_k n_mᵀ` on k,
+//!
+//! with the conventions of [`crate::problem`]: the force `−B_Nᵀλ` is `+λ n_m` on the slave and
+//! `−λ N_k n_m` on the master. In 1D the faces are the end points: node to node, `N = 1`.
+//!
+//! **Momentum.** `Σ_k N_k = 1`, so the contact forces of a row are equal and opposite:
+//! `1_dᵀ B_Nᵀ = 0` for every unit translation `1_d`; with `K 1_d = 0` (free bodies) and any
+//! symmetric `M̃`, `d/dt (M̃ 1_d)ᵀ V = 0`: the momentum `(M̃1_d)ᵀV` of the space's own mass is an
+//! exact invariant ([`Bodies::translation`]).
+//!
+//! **What the mass cures need of a coupled row.** Mass redistribution wants every constraint
+//! direction massless, `b_cᵀ M̃ b_c = 0` (`N_iᵀ M̃ N_j = 0`). A row touches both bodies and `M̃` is
+//! block diagonal and PSD, so `b_cᵀ M̃ b_c = b_{c,1}ᵀ M̃₁ b_{c,1} + b_{c,2}ᵀ M̃₂ b_{c,2}` is a sum of two
+//! non-negative terms: it vanishes only when **both** do, i.e. the slave's normal dof and every
+//! master dof of the row are massless. Hence the merged [`MassModel`] lists the Γ_C normal dofs of
+//! both bodies as contact dofs, and every space redistributes (or eliminates) within each body,
+//! never coupling them. Massless on the slave side alone is enough for well-posedness but leaves
+//! the row with mass (the note measures 10× the energy error and chatter while the bars graze).
+//! The singular dynamic method keeps mass on the contact dofs; its inf-sup condition is checked
+//! by rank on the coupled rows, `rank [B; b_cᵀ] = rank B + 1`
+//! ([`crate::space::singular_dynamic::inf_sup_holds_rows`]).
+//!
+//! The contact dofs are the last components (as for the plane, the bodies meet along e_d: the
+//! axis of the bars in 1D). A slave vertex whose projection falls on no master face gets no row.
+
+use crate::error::{Error, Result};
+use crate::fem::discretisation::{Discretisation, Initial};
+use crate::fem::mass_model::{ElementMass, ElementMixed, MassModel, VelocitySpace};
+use crate::linalg::{SpMat, TripletBuilder};
+use crate::problem::{Contact, ContactFace, Inertia, Probe, Problem};
+
+/// Relative tolerance of a projection on a master face (beyond its ends, in face lengths).
+const PROJECTION_TOLERANCE: f64 = 1e-9;
+
+/// The bodies of a multi-body case and their dof offsets.
+#[derive(Debug, Clone)]
+pub struct Bodies {
+    /// The bodies' discretisations (same dimension).
+    pub parts: Vec<Discretisation>,
+    offsets: Vec<usize>,
+}
+
+/// One node-to-segment row: the slave vertex's dof rows and the master face's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pairing {
+    /// Index of the slave vertex in the slave's Γ_C vertices.
+    pub slave: usize,
+    /// Row `(dof, value)` of `B_N` (global dofs).
+    pub row: Vec<(usize, f64)>,
+    /// g₀.
+    pub g0: f64,
+}
+
+impl Bodies {
+    /// The bodies, numbered in order; refuses bodies of different dimensions.
+    pub fn new(parts: Vec<Discretisation>) -> Result<Self> {
+        let Some(d) = parts.first().map(Discretisation::dim) else {
+            return Err(Error::Internal("no body".into()));
+        };
+        if let Some(p) = parts.iter().find(|p| p.dim() != d) {
+            return Err(Error::Mesh {
+                origin: p.mesh.origin.clone(),
+                message: format!("a body of dimension {} among bodies of dimension {d}", p.dim()),
+            });
+        }
+        let offsets = parts
+            .iter()
+            .scan(0, |n, p| {
+                let o = *n;
+                *n += p.n_dofs();
+                Some(o)
+            })
+            .collect();
+        Ok(Self { parts, offsets })
+    }
+
+    /// Number of displacement dofs of all bodies.
+    pub fn n_dofs(&self) -> usize {
+        self.parts.iter().map(Discretisation::n_dofs).sum()
+    }
+
+    /// Spatial dimension d.
+    pub fn dim(&self) -> usize {
+        self.parts[0].dim()
+    }
+
+    /// The first global dof of body b.
+    pub fn offset(&self, b: usize) -> usize {
+        self.offsets[b]
+    }
+
+    /// Body b's vector `local` copied into its block of the global vector `out`.
+    fn place(&self, b: usize, local: &[f64], out: &mut [f64]) {
+        let o = self.offsets[b];
+        out[o..o + local.len()].copy_from_slice(local);
+    }
+
+    /// The unit translation `1_d` along the last coordinate (the impact line): the momentum
+    /// along it is `(M̃ 1_d)ᵀ V`.
+    pub fn translation(&self) -> Vec<f64> {
+        let d = self.dim();
+        let mut t = vec![0.0; self.n_dofs()];
+        for (b, p) in self.parts.iter().enumerate() {
+            let local = p.interpolate(|_| std::array::from_fn(|k| f64::from(k == d - 1)));
+            self.place(b, &local, &mut t);
+        }
+        t
+    }
+
+    /// `K = diag(K₁, K₂, …)`.
+    pub fn stiffness(&self) -> Result<SpMat> {
+        let n = self.n_dofs();
+        let mut t = TripletBuilder::new(n, n);
+        for (p, &o) in self.parts.iter().zip(&self.offsets) {
+            t.add_scaled(o, o, 1.0, &p.stiffness()?);
+        }
+        t.build()
+    }
+
+    /// The merged element data: every body's elements with shifted dofs, the Γ_C normal dofs of
+    /// every body as contact dofs, and the velocity space H_h when every body has one.
+    pub fn mass_model(&self) -> MassModel {
+        let models: Vec<MassModel> = self.parts.iter().map(|p| p.mass_model()).collect();
+        let shift = |dofs: &[Vec<Option<usize>>], o: usize| -> Vec<Vec<Option<usize>>> {
+            dofs.iter()
+                .map(|c| c.iter().map(|d| d.map(|d| d + o)).collect())
+                .collect()
+        };
+        let mut elements = Vec::new();
+        let mut contact_dofs = Vec::new();
+        for (m, &o) in models.iter().zip(&self.offsets) {
+            elements.extend(m.elements.iter().map(|e| ElementMass {
+                x: e.x.clone(),
+                mass: e.mass.clone(),
+                dofs: shift(&e.dofs, o),
+            }));
+            contact_dofs.extend(m.contact_dofs.iter().map(|d| d + o));
+        }
+        contact_dofs.sort_unstable();
+        let velocity = models
+            .iter()
+            .map(|m| m.velocity.as_ref())
+            .collect::<Option<Vec<_>>>()
+            .map(|spaces| merge_velocity(&spaces));
+        MassModel {
+            n_dofs: self.n_dofs(),
+            dim: self.dim(),
+            elements,
+            contact_dofs,
+            velocity,
+        }
+    }
+
+    /// The node-to-segment rows of the slave body's Γ_C vertices on the master body's Γ_C faces
+    /// (nearest face containing the projection; ties: the first).
+    pub fn pairings(&self, slave: usize, master: usize) -> Result<Vec<Pairing>> {
+        let (s, m) = (&self.parts[slave], &self.parts[master]);
+        let d = self.dim();
+        let mut out = Vec::new();
+        for (r, &(i, _)) in s.contact_vertices.iter().enumerate() {
+            let xs = s.mesh.nodes[i];
+            let mut best: Option<(f64, Vec<(usize, f64)>)> = None;
+            for face in &m.contact_faces {
+                let x: Vec<[f64; 3]> = face.vertices.iter().map(|&k| m.mesh.nodes[k]).collect();
+                let Some(shape) = project(&x, xs)? else {
+                    continue;
+                };
+                let xm: [f64; 3] =
+                    std::array::from_fn(|k| shape.iter().zip(&x).map(|(n, p)| n * p[k]).sum());
+                let g0: f64 = (0..d).map(|k| (xs[k] - xm[k]) * face.normal[k]).sum();
+                if best.as_ref().map_or(true, |b| g0.abs() < b.0.abs()) {
+                    let mut row: Vec<(usize, f64)> = (0..d)
+                        .map(|c| (self.global(slave, i, c), -face.normal[c]))
+                        .collect();
+                    for (&k, n) in face.vertices.iter().zip(&shape) {
+                        row.extend((0..d).map(|c| (self.global(master, k, c), n * face.normal[c])));
+                    }
+                    row.retain(|e| e.1 != 0.0);
+                    best = Some((g0, row));
+                }
+            }
+            if let Some((g0, row)) = best {
+                out.push(Pairing { slave: r, row, g0 });
+            }
+        }
+        if out.is_empty() {
+            return Err(Error::Mesh {
+                origin: s.mesh.origin.clone(),
+                message: "no vertex of the slave's Γ_C projects on the master's Γ_C".into(),
+            });
+        }
+        Ok(out)
+    }
+
+    /// The global dof of node i, component c of body b (its Γ_C vertices are free).
+    fn global(&self, b: usize, i: usize, c: usize) -> usize {
+        self.offsets[b] + self.parts[b].dofs.get(i, c).unwrap_or(usize::MAX)
+    }
+
+    /// The contact rows of the interface (slave's Γ_C vertices on the master's faces), with the
+    /// slave vertices' tributary areas (`σ_N = −λ/area`) and the slave's Γ_C faces on those rows.
+    pub fn interface(&self, slave: usize, master: usize) -> Result<Contact> {
+        let pairs = self.pairings(slave, master)?;
+        let s = &self.parts[slave];
+        let mut b_n = TripletBuilder::new(pairs.len(), self.n_dofs());
+        for (r, p) in pairs.iter().enumerate() {
+            for &(j, v) in &p.row {
+                b_n.add(r, j, v);
+            }
+        }
+        let row_of = |vertex: usize| {
+            pairs
+                .iter()
+                .position(|p| s.contact_vertices[p.slave].0 == vertex)
+        };
+        let faces = s
+            .contact_faces
+            .iter()
+            .filter_map(|f| {
+                let rows = f.vertices.iter().map(|&v| row_of(v)).collect::<Option<Vec<_>>>()?;
+                (rows.len() == 1).then(|| ContactFace::point(rows[0]))
+            })
+            .collect();
+        Ok(Contact {
+            b_n: b_n.build()?,
+            g0: pairs.iter().map(|p| p.g0).collect(),
+            area: pairs.iter().map(|p| s.contact_vertices[p.slave].1).collect(),
+            faces,
+            vertices: None,
+            quadrature: None,
+            force: None,
+            normal: None,
+            energy: Vec::new(),
+        })
+    }
+
+    /// The semi-discrete problem of the bodies (body 0 the slave, body 1 the master) with the
+    /// inertia a space builds from the merged element data, from each body's `initial` state
+    /// (no load: the bodies fly free but for their contact). The probe is the slave's normal dof
+    /// at the contact row of smallest initial gap.
+    pub fn problem(
+        &self,
+        inertia: impl FnOnce(&MassModel) -> Result<Box<dyn Inertia>>,
+        initial: &[Initial],
+    ) -> Result<Problem> {
+        if self.parts.len() != 2 || initial.len() != 2 {
+            return Err(Error::Unsupported(
+                "a multi-body problem has exactly two bodies (slave, master)".into(),
+            ));
+        }
+        let inertia = inertia(&self.mass_model())?;
+        let contact = self.interface(0, 1)?;
+        let n = self.n_dofs();
+        let (mut u0, mut v0) = (vec![0.0; n], vec![0.0; n]);
+        for (b, init) in initial.iter().enumerate() {
+            if init.gravity.is_some() {
+                return Err(Error::Unsupported(
+                    "gravity on a multi-body problem".into(),
+                ));
+            }
+            self.place(b, &init.displacement, &mut u0);
+            self.place(b, &init.velocity, &mut v0);
+        }
+        let first = (0..contact.len())
+            .min_by(|&a, &b| contact.g0[a].total_cmp(&contact.g0[b]))
+            .unwrap_or(0);
+        let s = &self.parts[0];
+        let vertex = s.contact_vertices[first].0;
+        let u_dof = self.global(0, vertex, self.dim() - 1);
+        Ok(Problem {
+            probe: Probe {
+                contact: first,
+                u_dof,
+                w_dof: inertia.velocity_dof(u_dof),
+            },
+            inertia,
+            k: self.stiffness()?,
+            f: vec![0.0; n],
+            contact,
+            u0,
+            v0,
+            energy_shift: 0.0,
+        })
+    }
+}
+
+/// The velocity spaces of the bodies side by side (H_h dofs shifted like the V_h dofs).
+fn merge_velocity(spaces: &[&VelocitySpace]) -> VelocitySpace {
+    let mut elements = Vec::new();
+    let mut dof_of = Vec::new();
+    let mut dim = 0;
+    for v in spaces {
+        elements.extend(v.elements.iter().map(|e| ElementMixed {
+            c: e.c.clone(),
+            b: e.b.clone(),
+            vdofs: e
+                .vdofs
+                .iter()
+                .map(|c| c.iter().map(|i| i + dim).collect())
+                .collect(),
+        }));
+        dof_of.extend(v.dof_of.iter().map(|d| d.map(|d| d + dim)));
+        dim += v.dim;
+    }
+    VelocitySpace {
+        elements,
+        dim,
+        dof_of,
+    }
+}
+
+/// The shape functions at the orthogonal projection of `p` on the straight face with vertices
+/// `x` (a point: `[1]`; a segment: `[1 − t, t]`), or None when it falls outside the face.
+fn project(x: &[[f64; 3]], p: [f64; 3]) -> Result<Option<Vec<f64>>> {
+    match x.len() {
+        1 => Ok(Some(vec![1.0])),
+        2 => {
+            let e: [f64; 3] = std::array::from_fn(|k| x[1][k] - x[0][k]);
+            let len2: f64 = e.iter().map(|v| v * v).sum();
+            let t = (0..3).map(|k| (p[k] - x[0][k]) * e[k]).sum::<f64>() / len2;
+            let tol = PROJECTION_TOLERANCE;
+            Ok((-tol..=1.0 + tol)
+                .contains(&t)
+                .then(|| vec![1.0 - t.clamp(0.0, 1.0), t.clamp(0.0, 1.0)]))
+        }
+        k => Err(Error::Unsupported(format!(
+            "node-to-segment pairing on faces of {k} vertices (3D) is not implemented"
+        ))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::elasticity::Lame;
+    use crate::linalg::{to_dense, triplets};
+    use crate::mesh::interval::interval;
+    use crate::mesh::ContactRule;
+    use crate::space::{singular_dynamic, SPACES};
+
+    /// A free bar on (x0, x0 + L) whose Γ_C is its end at x = 0.
+    fn bar(x0: f64, length: f64, elements: usize, degree: usize) -> Discretisation {
+        let mut mesh = interval(length, elements, degree).unwrap();
+        for x in &mut mesh.nodes {
+            x[0] += x0;
+        }
+        let end = if x0 < 0.0 { mesh.nodes.len() - 1 } else { 0 };
+        mesh.contact_faces = Some(vec![vec![end]]);
+        let lame = Lame {
+            lambda: 0.0,
+            mu: 0.5,
+        };
+        Discretisation::new(mesh, lame, 1.0, ContactRule::Tagged).unwrap()
+    }
+
+    fn bars(degree: usize) -> Bodies {
+        Bodies::new(vec![bar(-1.0, 1.0, 4, degree), bar(0.0, 2.0, 8, degree)]).unwrap()
+    }
+
+    /// Two bars meeting at x = 0: one node-to-node row, `g = u₂(0) − u₁(0)` (+1 on bar 1's end,
+    /// −1 on bar 2's first dof: forces equal and opposite, `B_N 1 = 0`), g₀ = 0; K block
+    /// diagonal with two rigid translations; the merged mass has the total mass 3 and both end
+    /// dofs as contact dofs.
+    #[test]
+    fn two_bars_give_one_node_to_node_row() {
+        let b = bars(1);
+        assert_eq!(b.n_dofs(), 5 + 9);
+        let c = b.interface(0, 1).unwrap();
+        let row: Vec<_> = triplets(&c.b_n).map(|(_, j, v)| (j, v)).collect();
+        assert_eq!(row, vec![(4, 1.0), (5, -1.0)]);
+        assert_eq!(c.g0, vec![0.0]);
+        let k = b.stiffness().unwrap();
+        let one = b.translation();
+        assert!(crate::linalg::mul(&k, &one).iter().all(|x| x.abs() < 1e-12));
+        let mut rigid1 = vec![0.0; 14];
+        rigid1[..5].fill(1.0);
+        assert!(crate::linalg::mul(&k, &rigid1).iter().all(|x| x.abs() < 1e-12));
+        let model = b.mass_model();
+        assert_eq!(model.contact_dofs, vec![4, 5]);
+        for space in SPACES {
+            let s = (space.build)(&Default::default()).unwrap();
+            let Ok(inertia) = s.inertia(&model) else {
+                continue;
+            };
+            let m = inertia.mass_times(&one).unwrap();
+            let total: f64 = m.iter().sum();
+            // Mass elimination loses the mass of the elements at the interface (h₁ + h₂).
+            let want = if space.name == "mass_elimination" {
+                3.0 - 0.25 - 0.25
+            } else {
+                3.0
+            };
+            assert!((total - want).abs() < 1e-12, "{}: {total}", space.name);
+        }
+    }
+
+    /// Mass redistribution on the merged model makes the coupled row's direction massless
+    /// (`b_cᵀ M̃ b_c = 0`, both end dofs massless) with each bar's mass kept; the singular dynamic
+    /// method's inf-sup condition holds on the coupled row (P2/P1).
+    #[test]
+    fn the_cures_act_on_both_sides_of_the_coupled_row() {
+        let b = bars(1);
+        let model = b.mass_model();
+        let inertia = crate::space::by_name("mass_redistribution")
+            .unwrap()
+            .inertia(&model)
+            .unwrap();
+        let massless = inertia.massless();
+        assert!(massless[4] && massless[5]);
+        assert_eq!(massless.iter().filter(|&&m| m).count(), 2);
+        let row = b.pairings(0, 1).unwrap()[0].row.clone();
+        let mut bc = vec![0.0; b.n_dofs()];
+        for (j, v) in &row {
+            bc[*j] = *v;
+        }
+        let mb = inertia.mass_times(&bc).unwrap();
+        assert!(mb.iter().all(|x| x.abs() < 1e-15));
+        let mut ones1 = vec![0.0; b.n_dofs()];
+        ones1[..5].fill(1.0);
+        let p1: f64 = inertia.mass_times(&ones1).unwrap().iter().sum();
+        assert!((p1 - 1.0).abs() < 1e-12, "bar 1 mass {p1}");
+
+        let b2 = bars(2);
+        let model = b2.mass_model();
+        let (bm, _) = singular_dynamic::mixed_matrices(&model).unwrap();
+        let rows: Vec<Vec<(usize, f64)>> =
+            b2.pairings(0, 1).unwrap().into_iter().map(|p| p.row).collect();
+        assert!(singular_dynamic::inf_sup_holds_rows(&to_dense(&bm), &rows));
+        assert_eq!(model.velocity.as_ref().unwrap().dim, 5 + 9);
+    }
+
+    /// 2D node-to-segment: a vertex above the middle of a master segment gets shape functions
+    /// (½, ½), the master's normal and g₀ = its height; a vertex beyond the master's ends gets no
+    /// row; 3D faces are refused.
+    #[test]
+    fn node_to_segment_projects_on_the_master_face() {
+        let face = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
+        assert_eq!(project(&face, [1.0, 0.3, 0.0]).unwrap(), Some(vec![0.5, 0.5]));
+        assert_eq!(project(&face, [2.5, 0.3, 0.0]).unwrap(), None);
+        let tri = [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        assert!(project(&tri, [0.1, 0.1, 0.0]).is_err());
+    }
+}
