@@ -3,6 +3,7 @@
 pub mod bar_impact;
 pub mod hertz;
 pub mod spring_mass;
+pub mod two_bars;
 
 /// Exact values at the contact point at time t.
 #[derive(Debug, Clone, Copy, PartialEq)]
