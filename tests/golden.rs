@@ -101,10 +101,11 @@ fn summary_metrics_of_every_combination_are_unchanged() {
         }
     }
     // bar1d 5 spaces × 8 schemes and 3 spaces × 4 contact formulations, block2d 5 × 2,
-    // block3d 5 × 1, spring_mass 7 schemes, hertz2d 3 spaces, hertz3d 2 + 1.
+    // block3d 5 × 1, spring_mass 7 schemes, hertz2d 3 spaces, hertz3d 2 + 1, two_bars and
+    // two_bars_unequal 5 × 8 each.
     assert_eq!(
         count,
-        5 * 8 + 3 * 4 + 5 * 2 + 5 + 7 + 3 + 3,
+        5 * 8 + 3 * 4 + 5 * 2 + 5 + 7 + 3 + 3 + 2 * 5 * 8,
         "one snapshot per case × space × scheme"
     );
 }

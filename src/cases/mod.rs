@@ -9,6 +9,7 @@ pub mod bar1d;
 pub mod body;
 pub mod spring_mass;
 pub mod sweep;
+pub mod two_bars;
 
 use crate::error::{positive, Error, Result};
 use crate::exact::ExactContact;
@@ -60,6 +61,11 @@ pub trait Case: Send + Sync {
     }
     /// What an impact against Hertz theory measures (curved-body cases), if anything.
     fn impact(&self) -> Option<Impact> {
+        None
+    }
+    /// The unit translation `1_d` along the line of impact of a multi-body case with no
+    /// external force (dof layout of U), whose momentum `(M̃ 1_d)ᵀ V` is then an invariant.
+    fn momentum(&self) -> Option<Vec<f64>> {
         None
     }
 }
@@ -273,6 +279,7 @@ pub const CASES: &[&str] = &[
     "hertz2d",
     "hertz3d",
     "disc2d",
+    "two_bars",
 ];
 
 #[derive(Deserialize)]
@@ -286,6 +293,7 @@ enum Spec {
     Bar1d(bar1d::Bar1dSpec),
     Body(body::BodySpec),
     SpringMass(spring_mass::SpringMassSpec),
+    TwoBars(two_bars::TwoBarsSpec),
 }
 
 /// A case file read and parsed once per command: its path, the hash of its text (the content
@@ -328,6 +336,7 @@ impl CaseFile {
                 Spec::Body(spec)
             }
             "spring_mass" => Spec::SpringMass(spec_from_str(&text, path)?),
+            "two_bars" => Spec::TwoBars(spec_from_str(&text, path)?),
             other => {
                 return Err(Error::UnknownName {
                     kind: "case",
@@ -376,6 +385,7 @@ impl CaseFile {
                 s.clone(),
                 overrides,
             )?),
+            Spec::TwoBars(s) => Box::new(two_bars::TwoBars::from_spec(s.clone(), overrides)?),
         })
     }
 }

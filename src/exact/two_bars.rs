@@ -388,7 +388,10 @@ mod tests {
             let gap = a.0 + b.0;
             assert!(gap > -1e-12 && b.1 <= 0.0, "{t}");
             if ex.segment(t).contact {
-                assert!(gap.abs() < 1e-12 && (a.2 + b.2).abs() < 1e-12 && a.1 == b.1, "{t}");
+                assert!(
+                    gap.abs() < 1e-12 && (a.2 + b.2).abs() < 1e-12 && a.1 == b.1,
+                    "{t}"
+                );
             } else {
                 assert!(a.1 == 0.0 && b.1 == 0.0, "{t}");
             }

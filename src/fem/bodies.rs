@@ -68,7 +68,10 @@ impl Bodies {
         if let Some(p) = parts.iter().find(|p| p.dim() != d) {
             return Err(Error::Mesh {
                 origin: p.mesh.origin.clone(),
-                message: format!("a body of dimension {} among bodies of dimension {d}", p.dim()),
+                message: format!(
+                    "a body of dimension {} among bodies of dimension {d}",
+                    p.dim()
+                ),
             });
         }
         let offsets = parts
@@ -225,14 +228,21 @@ impl Bodies {
             .contact_faces
             .iter()
             .filter_map(|f| {
-                let rows = f.vertices.iter().map(|&v| row_of(v)).collect::<Option<Vec<_>>>()?;
+                let rows = f
+                    .vertices
+                    .iter()
+                    .map(|&v| row_of(v))
+                    .collect::<Option<Vec<_>>>()?;
                 (rows.len() == 1).then(|| ContactFace::point(rows[0]))
             })
             .collect();
         Ok(Contact {
             b_n: b_n.build()?,
             g0: pairs.iter().map(|p| p.g0).collect(),
-            area: pairs.iter().map(|p| s.contact_vertices[p.slave].1).collect(),
+            area: pairs
+                .iter()
+                .map(|p| s.contact_vertices[p.slave].1)
+                .collect(),
             faces,
             vertices: None,
             quadrature: None,
@@ -262,9 +272,7 @@ impl Bodies {
         let (mut u0, mut v0) = (vec![0.0; n], vec![0.0; n]);
         for (b, init) in initial.iter().enumerate() {
             if init.gravity.is_some() {
-                return Err(Error::Unsupported(
-                    "gravity on a multi-body problem".into(),
-                ));
+                return Err(Error::Unsupported("gravity on a multi-body problem".into()));
             }
             self.place(b, &init.displacement, &mut u0);
             self.place(b, &init.velocity, &mut v0);
@@ -298,14 +306,16 @@ fn merge_velocity(spaces: &[&VelocitySpace]) -> VelocitySpace {
     let mut dof_of = Vec::new();
     let mut dim = 0;
     for v in spaces {
-        elements.extend(v.elements.iter().map(|e| ElementMixed {
-            c: e.c.clone(),
-            b: e.b.clone(),
-            vdofs: e
-                .vdofs
-                .iter()
-                .map(|c| c.iter().map(|i| i + dim).collect())
-                .collect(),
+        elements.extend(v.elements.iter().map(|e| {
+            ElementMixed {
+                c: e.c.clone(),
+                b: e.b.clone(),
+                vdofs: e
+                    .vdofs
+                    .iter()
+                    .map(|c| c.iter().map(|i| i + dim).collect())
+                    .collect(),
+            }
         }));
         dof_of.extend(v.dof_of.iter().map(|d| d.map(|d| d + dim)));
         dim += v.dim;
@@ -382,7 +392,9 @@ mod tests {
         assert!(crate::linalg::mul(&k, &one).iter().all(|x| x.abs() < 1e-12));
         let mut rigid1 = vec![0.0; 14];
         rigid1[..5].fill(1.0);
-        assert!(crate::linalg::mul(&k, &rigid1).iter().all(|x| x.abs() < 1e-12));
+        assert!(crate::linalg::mul(&k, &rigid1)
+            .iter()
+            .all(|x| x.abs() < 1e-12));
         let model = b.mass_model();
         assert_eq!(model.contact_dofs, vec![4, 5]);
         for space in SPACES {
@@ -431,8 +443,12 @@ mod tests {
         let b2 = bars(2);
         let model = b2.mass_model();
         let (bm, _) = singular_dynamic::mixed_matrices(&model).unwrap();
-        let rows: Vec<Vec<(usize, f64)>> =
-            b2.pairings(0, 1).unwrap().into_iter().map(|p| p.row).collect();
+        let rows: Vec<Vec<(usize, f64)>> = b2
+            .pairings(0, 1)
+            .unwrap()
+            .into_iter()
+            .map(|p| p.row)
+            .collect();
         assert!(singular_dynamic::inf_sup_holds_rows(&to_dense(&bm), &rows));
         assert_eq!(model.velocity.as_ref().unwrap().dim, 5 + 9);
     }
@@ -443,7 +459,10 @@ mod tests {
     #[test]
     fn node_to_segment_projects_on_the_master_face() {
         let face = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
-        assert_eq!(project(&face, [1.0, 0.3, 0.0]).unwrap(), Some(vec![0.5, 0.5]));
+        assert_eq!(
+            project(&face, [1.0, 0.3, 0.0]).unwrap(),
+            Some(vec![0.5, 0.5])
+        );
         assert_eq!(project(&face, [2.5, 0.3, 0.0]).unwrap(), None);
         let tri = [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         assert!(project(&tri, [0.1, 0.1, 0.0]).is_err());

@@ -173,6 +173,7 @@ pub fn run_with_output(
             b_row: problem.contact.gap_row(problem.probe.contact),
             energy: problem.energy_form(),
             centre: impact.as_ref().map(|i| i.centre.clone()),
+            translation: case.momentum().map(|t| (t, vec![0.0; problem.n()])),
         };
         let sampler = scope.spawn(move || -> Result<_> {
             let mut rows: Vec<Row> = Vec::with_capacity(steps + 1);
@@ -371,6 +372,16 @@ struct Probe {
     energy: EnergyForm,
     /// The centre of mass's weights, for the approach of the curved-body cases.
     centre: Option<Vec<(usize, f64)>>,
+    /// The unit translation `1_d` of a multi-body case and a buffer for `M̃V`.
+    translation: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+/// The momentum `(M̃1_d)ᵀV = 1_dᵀ(Lᵀv)`: the inertial force of the inertial velocity v
+/// (`M̃V` for a sparse mass, `BᵀC⁻¹BV` for the mixed one) along the translation `1_d`.
+fn momentum(problem: &Problem, (one, mv): &mut (Vec<f64>, Vec<f64>), v: &[f64]) -> f64 {
+    mv.fill(0.0);
+    problem.inertia.apply_add(mv, v, 1.0);
+    one.iter().zip(mv.iter()).map(|(a, b)| a * b).sum()
 }
 
 /// The probe's row of the time series.
@@ -394,6 +405,10 @@ fn probe_row(
             .centre
             .as_ref()
             .map(|w| -w.iter().map(|&(j, x)| x * s.u[j]).sum::<f64>()),
+        momentum: probe
+            .translation
+            .as_mut()
+            .map(|t| momentum(problem, t, s.v)),
         exact: exact.map(|e| {
             let c = e.contact(s.t);
             (c.u, c.sigma, e.energy(s.t))

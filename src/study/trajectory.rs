@@ -2,7 +2,9 @@
 //!
 //! `timeseries.csv`: `t, u_contact, v_contact, sigma_contact, energy, gap, force_contact` (the total
 //! contact force Σλ), then `approach` (the centre of mass's displacement towards the plane) for
-//! the curved-body cases and, when the case has an exact solution,
+//! the curved-body cases, `momentum` (the total linear momentum `(M̃1_d)ᵀV` along the line of
+//! impact, with the space's own mass) for the multi-body cases and, when the case has an exact
+//! solution,
 //! `u_contact_exact, sigma_contact_exact, energy_exact`. `sigma_contact` is the
 //! normal contact stress σ_N = −λ/area (compression negative). Units are those of the case file
 //! (time, length, length/time, force/area, energy, length).
@@ -31,6 +33,8 @@ pub struct Row {
     /// Rigid approach δ of the body: displacement of its centre of mass towards the plane
     /// (curved-body cases).
     pub approach: Option<f64>,
+    /// Total linear momentum `(M̃1_d)ᵀV` along the line of impact (multi-body cases).
+    pub momentum: Option<f64>,
     /// Exact `(u, σ_N, E)` at the contact point, when the case has an exact solution.
     pub exact: Option<(f64, f64, f64)>,
 }
@@ -51,9 +55,13 @@ pub const EXACT_COLUMNS: &[&str] = &["u_contact_exact", "sigma_contact_exact", "
 pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
     let exact = rows.first().is_some_and(|r| r.exact.is_some());
     let approach = rows.first().is_some_and(|r| r.approach.is_some());
+    let momentum = rows.first().is_some_and(|r| r.momentum.is_some());
     let mut header = TIMESERIES_COLUMNS.to_vec();
     if approach {
         header.push("approach");
+    }
+    if momentum {
+        header.push("momentum");
     }
     if exact {
         header.extend_from_slice(EXACT_COLUMNS);
@@ -72,6 +80,7 @@ pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
                 r.force_contact,
             ];
             v.extend(r.approach);
+            v.extend(r.momentum);
             if let Some((u, s, e)) = r.exact {
                 v.extend([u, s, e]);
             }

@@ -1,0 +1,269 @@
+//! `two_bars`: two free elastic bars meeting end to end (`shared/reference/bar_flight_and_two_bars.md`,
+//! exact solution [`crate::exact::two_bars`]).
+//!
+//! Bar 1 on (−L₁, 0) at +v₀ (the slave), bar 2 on (0, L₂) at −v₀ (the master), unit section, the
+//! same material, unstressed and touching at t = 0; one node-to-node contact row at x = 0,
+//! `g = u₂(0) − u₁(0) ≥ 0` ([`crate::fem::bodies`]). Bar 1 has `mesh.elements` elements, bar 2
+//! `round(elements · L₂/L₁)`. No external force: the momentum `(M̃1)ᵀV` is an invariant.
+
+use super::{Case, FieldError, Overrides, RunSpec};
+use crate::element::quadrature::gauss_legendre_01;
+use crate::element::segment::Segment;
+use crate::error::{positive, Error, Result};
+use crate::exact::two_bars::TwoBars as Exact;
+use crate::exact::ExactContact;
+use crate::fem::bodies::Bodies;
+use crate::fem::discretisation::{Discretisation, Initial};
+use crate::fem::elasticity::Lame;
+use crate::mesh::interval::interval;
+use crate::mesh::ContactRule;
+use crate::problem::Problem;
+use crate::space::Space;
+use serde::Deserialize;
+
+/// `[material]` (both bars).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Young's modulus E.
+    pub young: f64,
+    /// Density ρ.
+    pub density: f64,
+}
+
+/// `[geometry]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Geometry {
+    /// L₁, L₂.
+    pub lengths: [f64; 2],
+    /// v₀: bar 1 moves at +v₀, bar 2 at −v₀.
+    pub velocity: f64,
+}
+
+/// `[mesh]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSpec {
+    /// Number of elements of bar 1 (bar 2: in proportion to its length).
+    pub elements: usize,
+    /// Polynomial degree of the displacement (1 or 2).
+    pub degree: usize,
+}
+
+/// The whole `two_bars` case file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TwoBarsSpec {
+    /// Always `two_bars`.
+    pub case: String,
+    /// Units statement.
+    pub units: String,
+    /// Material of both bars.
+    pub material: Material,
+    /// Lengths and velocity.
+    pub geometry: Geometry,
+    /// Mesh.
+    pub mesh: MeshSpec,
+    /// Run defaults.
+    pub run: RunSpec,
+    /// Sweeps run by `dyncontact sweep` and `report`.
+    #[serde(default)]
+    pub sweep: Vec<super::sweep::SweepSpec>,
+}
+
+/// A validated two-bar case.
+#[derive(Debug, Clone)]
+pub struct TwoBars {
+    /// The exact solution up to the run's final time.
+    pub exact: Exact,
+    /// Bar 1 (slave) and bar 2 (master).
+    pub bodies: Bodies,
+    run: RunSpec,
+    sweeps: Vec<super::sweep::SweepSpec>,
+}
+
+impl TwoBars {
+    /// Validates the spec, applies the overrides and builds the discretisations.
+    pub fn from_spec(spec: TwoBarsSpec, o: &Overrides) -> Result<Self> {
+        let m = &spec.material;
+        positive("material.young", m.young)?;
+        positive("material.density", m.density)?;
+        positive("geometry.lengths[0]", spec.geometry.lengths[0])?;
+        positive("geometry.lengths[1]", spec.geometry.lengths[1])?;
+        positive("geometry.velocity", spec.geometry.velocity)?;
+        let degree = o.degree.unwrap_or(spec.mesh.degree);
+        let elements = o.elements.unwrap_or(spec.mesh.elements);
+        let mut run = spec.run;
+        o.apply(&mut run);
+        run.validate()?;
+        let [l1, l2] = spec.geometry.lengths;
+        let exact = Exact::new(
+            [l1, l2],
+            m.young,
+            m.density,
+            spec.geometry.velocity,
+            run.t_end,
+        );
+        let mut case = Self::new(exact, elements, degree, run)?;
+        case.sweeps = spec.sweep;
+        Ok(case)
+    }
+
+    /// The bars of the exact solution `exact`, bar 1 with `elements` elements of degree `degree`.
+    pub fn new(exact: Exact, elements: usize, degree: usize, run: RunSpec) -> Result<Self> {
+        if !(1..=2).contains(&degree) {
+            return Err(Error::invalid("mesh.degree", degree, "must be 1 or 2"));
+        }
+        if elements == 0 {
+            return Err(Error::invalid("mesh.elements", elements, "must be >= 1"));
+        }
+        let [l1, l2] = exact.lengths;
+        let n2 = ((elements as f64 * l2 / l1).round() as usize).max(1);
+        let dofs = ((elements + n2) * degree) as f64;
+        crate::util::check_memory("mesh.elements", elements, dofs * (3.0 * 5.0 * 16.0 + 200.0))?;
+        // ν = 0: λ = 0, 2μ = E exactly.
+        let lame = Lame {
+            lambda: 0.0,
+            mu: 0.5 * exact.young,
+        };
+        let bar = |x0: f64, length: f64, n: usize| -> Result<Discretisation> {
+            let mut mesh = interval(length, n, degree)?;
+            for x in &mut mesh.nodes {
+                x[0] += x0;
+            }
+            // Γ_C: the end at x = 0 (bar 1's last node, bar 2's first).
+            let end = if x0 < 0.0 { mesh.nodes.len() - 1 } else { 0 };
+            mesh.contact_faces = Some(vec![vec![end]]);
+            Discretisation::new(mesh, lame, exact.density, ContactRule::Tagged)
+        };
+        let bodies = Bodies::new(vec![bar(-l1, l1, elements)?, bar(0.0, l2, n2)?])?;
+        Ok(Self {
+            exact,
+            bodies,
+            run,
+            sweeps: Vec::new(),
+        })
+    }
+
+    /// The unit translation along the bars: the momentum is `(M̃ 1)ᵀ V`.
+    pub fn translation(&self) -> Vec<f64> {
+        self.bodies.translation()
+    }
+}
+
+impl Case for TwoBars {
+    /// `two_bars` for equal lengths, `two_bars_unequal` otherwise (the two canonical files'
+    /// runs stay apart in the summaries and the report).
+    fn kind(&self) -> &'static str {
+        let [l1, l2] = self.exact.lengths;
+        if l1 == l2 {
+            "two_bars"
+        } else {
+            "two_bars_unequal"
+        }
+    }
+
+    /// The larger of the two bars' element lengths.
+    fn h(&self) -> f64 {
+        self.bodies
+            .parts
+            .iter()
+            .map(|p| p.mesh.h)
+            .fold(0.0, f64::max)
+    }
+
+    fn problem(&self, space: &dyn Space) -> Result<Problem> {
+        let v0 = self.exact.speed;
+        let initial: Vec<Initial> = self
+            .bodies
+            .parts
+            .iter()
+            .zip([v0, -v0])
+            .map(|(p, v)| Initial {
+                displacement: vec![0.0; p.n_dofs()],
+                velocity: vec![v; p.n_dofs()],
+                gravity: None,
+                lift: 0.0,
+            })
+            .collect();
+        self.bodies.problem(|m| space.inertia(m), &initial)
+    }
+
+    fn exact(&self) -> Option<&dyn ExactContact> {
+        Some(&self.exact)
+    }
+
+    fn field_error(&self) -> Option<Box<dyn FieldError + '_>> {
+        Some(Box::new(TwoBarsFieldError {
+            case: self,
+            rule: gauss_legendre_01(3),
+        }))
+    }
+
+    fn stress_is_function(&self) -> bool {
+        true
+    }
+
+    fn run(&self) -> &RunSpec {
+        &self.run
+    }
+
+    fn sweeps(&self) -> &[super::sweep::SweepSpec] {
+        &self.sweeps
+    }
+
+    fn momentum(&self) -> Option<Vec<f64>> {
+        Some(self.translation())
+    }
+}
+
+/// L² and H¹-seminorm errors of both bars against the exact field: per element, 3-point Gauss
+/// on the pieces between the fronts (the exact u is linear between them, so the rule is exact).
+struct TwoBarsFieldError<'a> {
+    case: &'a TwoBars,
+    rule: Vec<(f64, f64)>,
+}
+
+impl FieldError for TwoBarsFieldError<'_> {
+    fn errors(&self, u: &[f64], t: f64) -> (f64, f64) {
+        let (bodies, ex) = (&self.case.bodies, &self.case.exact);
+        let (mut l2, mut h1) = (0.0, 0.0);
+        for (k, fem) in bodies.parts.iter().enumerate() {
+            let (o, mesh) = (bodies.offset(k), &fem.mesh);
+            let seg = Segment {
+                degree: mesh.element.degree,
+            };
+            // Bar 1's own coordinate is y = −x, bar 2's y = x.
+            let sign = if k == 0 { -1.0 } else { 1.0 };
+            let fronts: Vec<f64> = ex.fronts(k, t).into_iter().map(|y| sign * y).collect();
+            for cell in &mesh.connectivity {
+                let (xa, xb) = (mesh.nodes[cell[0]][0], mesh.nodes[cell[cell.len() - 1]][0]);
+                let nodal: Vec<f64> = cell
+                    .iter()
+                    .map(|&i| fem.dofs.get(i, 0).map_or(0.0, |d| u[o + d]))
+                    .collect();
+                let mut cuts = vec![xa, xb];
+                cuts.extend(fronts.iter().copied().filter(|&f| f > xa && f < xb));
+                cuts.sort_by(f64::total_cmp);
+                for piece in cuts.windows(2) {
+                    let len = piece[1] - piece[0];
+                    for &(q, w) in &self.rule {
+                        let x = piece[0] + q * len;
+                        let xi = (x - xa) / (xb - xa);
+                        let (uh, duh) = nodal.iter().enumerate().fold((0.0, 0.0), |acc, (a, v)| {
+                            (
+                                acc.0 + v * seg.value(a, xi),
+                                acc.1 + v * seg.derivative(a, xi) / (xb - xa),
+                            )
+                        });
+                        let (ue, sigma, _) = ex.local(k, sign * x, t);
+                        l2 += w * len * (uh - sign * ue).powi(2);
+                        h1 += w * len * (duh - sigma / ex.young).powi(2);
+                    }
+                }
+            }
+        }
+        (l2.sqrt(), h1.sqrt())
+    }
+}
