@@ -6,6 +6,7 @@
 //! `g = u₂(0) − u₁(0) ≥ 0` ([`crate::fem::bodies`]). Bar 1 has `mesh.elements` elements, bar 2
 //! `round(elements · L₂/L₁)`. No external force: the momentum `(M̃1)ᵀV` is an invariant.
 
+use super::bar1d::{Material, MeshSpec};
 use super::{Case, FieldError, Overrides, RunSpec};
 use crate::element::quadrature::gauss_legendre_01;
 use crate::element::segment::Segment;
@@ -21,16 +22,6 @@ use crate::problem::Problem;
 use crate::space::Space;
 use serde::Deserialize;
 
-/// `[material]` (both bars).
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Material {
-    /// Young's modulus E.
-    pub young: f64,
-    /// Density ρ.
-    pub density: f64,
-}
-
 /// `[geometry]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -41,16 +32,6 @@ pub struct Geometry {
     pub velocity: f64,
 }
 
-/// `[mesh]`.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MeshSpec {
-    /// Number of elements of bar 1 (bar 2: in proportion to its length).
-    pub elements: usize,
-    /// Polynomial degree of the displacement (1 or 2).
-    pub degree: usize,
-}
-
 /// The whole `two_bars` case file.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -59,11 +40,11 @@ pub struct TwoBarsSpec {
     pub case: String,
     /// Units statement.
     pub units: String,
-    /// Material of both bars.
+    /// Material of both bars (as bar1d's).
     pub material: Material,
     /// Lengths and velocity.
     pub geometry: Geometry,
-    /// Mesh.
+    /// Mesh (as bar1d's; `elements` counts bar 1's).
     pub mesh: MeshSpec,
     /// Run defaults.
     pub run: RunSpec,
