@@ -453,6 +453,75 @@ mod tests {
         assert_eq!(model.velocity.as_ref().unwrap().dim, 5 + 9);
     }
 
+    /// Two stacked Q1 blocks in 2D with non-matching meshes: the upper (slave, 3 cells across,
+    /// lifted by 0.1) on the lower's top faces (master, 2 cells across). Every slave vertex gets
+    /// a row `−n_m` on itself and `N_k n_m` on its master face (N = (1/3, 2/3) at x = 1/3 on the
+    /// face (0, ½)), g₀ = 0.1; the rows annihilate both translations (`B_N 1_x = B_N 1_y = 0`:
+    /// equal and opposite forces); mass redistribution on the merged model makes every row's
+    /// direction massless, `M̃ b_c = 0`, and keeps the total mass.
+    #[test]
+    fn stacked_blocks_pair_node_to_segment_on_non_matching_meshes() {
+        use crate::element::reference::{RefElement, Shape};
+        use crate::mesh::structured::box_mesh;
+        let q1 = RefElement {
+            shape: Shape::Tensor,
+            dim: 2,
+            degree: 1,
+        };
+        let lame = Lame::from_young_poisson(1.0, 0.3);
+        let mut lower = box_mesh(q1, [2, 2, 1], [1.0, 1.0, 1.0]).unwrap();
+        let top: Vec<Vec<usize>> = lower
+            .boundary_faces()
+            .into_iter()
+            .filter(|f| f.normal[1] > 0.5)
+            .map(|f| f.vertices)
+            .collect();
+        lower.contact_faces = Some(top);
+        let mut upper = box_mesh(q1, [3, 3, 1], [1.0, 1.0, 1.0]).unwrap();
+        for x in &mut upper.nodes {
+            x[1] += 1.1;
+        }
+        let master = Discretisation::new(lower, lame, 1.0, ContactRule::Tagged).unwrap();
+        let slave = Discretisation::new(upper, lame, 1.0, ContactRule::Facing(0.01)).unwrap();
+        let b = Bodies::new(vec![slave, master]).unwrap();
+        let pairs = b.pairings(0, 1).unwrap();
+        assert_eq!(pairs.len(), 4);
+        let n = b.n_dofs();
+        for p in &pairs {
+            assert!((p.g0 - 0.1).abs() < 1e-12, "{p:?}");
+            for c in 0..2 {
+                let sum: f64 = p.row.iter().filter(|e| e.0 % 2 == c).map(|e| e.1).sum();
+                assert!(sum.abs() < 1e-12, "component {c}: {p:?}");
+            }
+        }
+        let third = pairs
+            .iter()
+            .find(|p| {
+                let s = &b.parts[0];
+                (s.mesh.nodes[s.contact_vertices[p.slave].0][0] - 1.0 / 3.0).abs() < 1e-12
+            })
+            .unwrap();
+        let mut shares: Vec<f64> = third.row.iter().skip(1).map(|e| e.1).collect();
+        shares.sort_by(f64::total_cmp);
+        assert!((shares[0] - 1.0 / 3.0).abs() < 1e-12 && (shares[1] - 2.0 / 3.0).abs() < 1e-12);
+        assert_eq!(third.row[0].1, -1.0);
+        let inertia = crate::space::by_name("mass_redistribution")
+            .unwrap()
+            .inertia(&b.mass_model())
+            .unwrap();
+        for p in &pairs {
+            let mut bc = vec![0.0; n];
+            for &(j, v) in &p.row {
+                bc[j] = v;
+            }
+            let mb = inertia.mass_times(&bc).unwrap();
+            assert!(mb.iter().all(|x| x.abs() < 1e-14), "{p:?}");
+        }
+        let one = b.translation();
+        let total: f64 = inertia.mass_times(&one).unwrap().iter().sum();
+        assert!((total - 2.0).abs() < 1e-12, "total mass {total}");
+    }
+
     /// 2D node-to-segment: a vertex above the middle of a master segment gets shape functions
     /// (½, ½), the master's normal and g₀ = its height; a vertex beyond the master's ends gets no
     /// row; 3D faces are refused.
