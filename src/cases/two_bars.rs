@@ -154,6 +154,11 @@ impl Case for TwoBars {
             .fold(0.0, f64::max)
     }
 
+    fn element(&self) -> Option<(&'static str, usize)> {
+        let e = self.bodies.parts[0].mesh.element;
+        Some((e.cells(), e.degree))
+    }
+
     fn problem(&self, space: &dyn Space) -> Result<Problem> {
         let v0 = self.exact.speed;
         let initial: Vec<Initial> = self

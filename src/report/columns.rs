@@ -69,6 +69,7 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("gap", "case (length)", "gap g = g₀ − B_N U at the probe"),
     ("force_contact", "case (force)", "total contact force Σλ (per unit thickness in 2D)"),
     ("approach", "case (length)", "displacement of the centre of mass towards the plane (curved bodies)"),
+    ("momentum", "case (mass·length/time)", "total linear momentum `(M̃1)ᵀV` along the line of impact, with the space's own mass (two-body cases)"),
     ("u_contact_exact", "case (length)", "exact `u_contact`"),
     ("sigma_contact_exact", "case (stress)", "exact `sigma_contact`"),
     ("energy_exact", "case (energy)", "exact `energy`"),
@@ -95,7 +96,7 @@ const DOCS: &[(&str, &str, &str)] = &[
 /// The files and their columns: name, what one row is, columns.
 fn files() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
     let mut timeseries: Vec<&str> = trajectory::TIMESERIES_COLUMNS.to_vec();
-    timeseries.push("approach");
+    timeseries.extend(["approach", "momentum"]);
     timeseries.extend(trajectory::EXACT_COLUMNS);
     vec![
         (
@@ -135,7 +136,7 @@ fn files() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
         ),
         (
             "timeseries.csv (dyncontact run)",
-            "one row per sample (every step and t = 0); `approach` for curved bodies, the `_exact` columns when the case has an exact solution",
+            "one row per sample (every step and t = 0); `approach` for curved bodies, `momentum` for two-body cases, the `_exact` columns when the case has an exact solution",
             timeseries,
         ),
         (
