@@ -250,8 +250,9 @@ fn nice_step(x: f64) -> f64 {
 }
 
 /// Key points of a log axis over `[lo, hi]`: 1, 2 and 5 times the powers of ten (the powers
-/// alone when the axis spans more than three decades; 1 to 9 times them when fewer than two
-/// would be inside), so that the tick labels are few and never run into each other.
+/// alone when the axis spans more than three decades, every k-th of them beyond eight; 1 to 9
+/// times them when fewer than two would be inside), so that the tick labels are few and never
+/// run into each other.
 fn log_key_points(lo: f64, hi: f64) -> Vec<f64> {
     let decades = lo.log10().floor() as i32..=hi.log10().ceil() as i32;
     let points = |mantissas: &[f64]| -> Vec<f64> {
@@ -261,8 +262,15 @@ fn log_key_points(lo: f64, hi: f64) -> Vec<f64> {
             .filter(|v| (lo..=hi).contains(v))
             .collect()
     };
-    let wide = (hi / lo).log10() > 3.0;
+    let span = (hi / lo).log10();
+    let wide = span > 3.0;
     let nice = points(if wide { &[1.0] } else { &[1.0, 2.0, 5.0] });
+    // More than eight decades: every k-th power only, at most about eight labels.
+    let every = (span / 8.0).ceil().max(1.0) as i32;
+    let nice: Vec<f64> = nice
+        .into_iter()
+        .filter(|v| v.log10().round() as i32 % every == 0)
+        .collect();
     if nice.len() >= 2 {
         nice
     } else {
@@ -965,27 +973,43 @@ const TIME_EXTRAS: Extras = Extras {
 /// time; one legend (the curves of the first panel) on the right.
 struct Panels<'a> {
     panels: Vec<(&'a str, &'a [Series], Axis, Axis)>,
+    extras: Extras,
+    /// Panels per row (rows of 540 px).
+    columns: usize,
+}
+
+impl Panels<'_> {
+    /// `(columns, rows)` of the grid.
+    fn grid(&self) -> (u32, u32) {
+        let columns = self.columns.clamp(1, self.panels.len().max(1));
+        (
+            columns as u32,
+            self.panels.len().div_ceil(columns).max(1) as u32,
+        )
+    }
 }
 
 impl Picture for Panels<'_> {
     fn size(&self) -> (u32, u32) {
-        (480 * self.panels.len() as u32 + LEGEND - 60, 540)
+        let (columns, rows) = self.grid();
+        (480 * columns + LEGEND - 60, 540 * rows)
     }
 
     fn draw<DB: DrawingBackend>(
         &self,
         root: &DrawingArea<DB, Shift>,
     ) -> std::result::Result<(), String> {
-        let (charts, legend) = root.split_horizontally(480 * self.panels.len() as u32);
-        let areas = charts.split_evenly((1, self.panels.len()));
+        let (columns, rows) = self.grid();
+        let (charts, legend) = root.split_horizontally(480 * columns);
+        let areas = charts.split_evenly((rows as usize, columns as usize));
         for ((title, series, x, y), area) in self.panels.iter().zip(&areas) {
-            draw_chart(area, title, (x, y), series, TIME_EXTRAS)?;
+            draw_chart(area, title, (x, y), series, self.extras)?;
         }
         let first: Vec<&Series> = self
             .panels
             .first()
             .map_or_else(Vec::new, |p| p.1.iter().collect());
-        draw_legend(&legend, &first, None, 1)
+        draw_legend(&legend, &first, None, self.extras.width)
     }
 }
 
@@ -998,7 +1022,62 @@ pub fn time_panels(path: &Path, y_label: &str, panels: &[(String, Vec<Series>)])
             .ok_or_else(|| plot_err(path, format!("panel {title}: nothing to plot")))?;
         drawn.push((title.as_str(), series.as_slice(), x, y));
     }
-    save(path, &Panels { panels: drawn })
+    save(
+        path,
+        &Panels {
+            columns: drawn.len(),
+            panels: drawn,
+            extras: TIME_EXTRAS,
+        },
+    )
+}
+
+/// Log–log scatter panels side by side on common axes, one `(title, series)` each (a series a
+/// point or a few, marks only), one legend (the first panel's series): `(x_label, y_label)`.
+/// Values must be positive (the caller floors zeros and says so).
+pub fn loglog_panels(
+    path: &Path,
+    (x_label, y_label): (&str, &str),
+    panels: &[(String, Vec<Series>)],
+) -> Result<()> {
+    let pts: Vec<(f64, f64)> = panels
+        .iter()
+        .flat_map(|(_, s)| s.iter().flat_map(|s| s.points.iter().copied()))
+        .filter(|p| p.0 > 0.0 && p.1 > 0.0 && p.0.is_finite() && p.1.is_finite())
+        .collect();
+    if pts.is_empty() {
+        return Err(plot_err(path, "nothing to plot"));
+    }
+    let range = |v: Vec<f64>| {
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(*x), b.max(*x)));
+        (lo / 3.0, hi * 3.0)
+    };
+    let axis = |label: &str, (lo, hi): (f64, f64)| Axis {
+        label: label.into(),
+        lo,
+        hi,
+        log: true,
+    };
+    let x = axis(x_label, range(pts.iter().map(|p| p.0).collect()));
+    let y = axis(y_label, range(pts.iter().map(|p| p.1).collect()));
+    let drawn = panels
+        .iter()
+        .map(|(title, series)| (title.as_str(), series.as_slice(), x.clone(), y.clone()))
+        .collect();
+    save(
+        path,
+        &Panels {
+            panels: drawn,
+            extras: Extras {
+                width: 1,
+                marker: 6,
+                spread: 0,
+            },
+            columns: 3,
+        },
+    )
 }
 
 /// Axes of a log–log convergence plot.

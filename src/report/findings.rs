@@ -6,8 +6,9 @@
 //! A fit is only printed as an order when it is one ([`Verdict::is_order`]): a negative slope,
 //! an error that does not decrease or a fit residual above [`orders::IRREGULAR`] is said as such.
 
-use super::doc::{Block, Cell, Doc, Rich, Tone};
+use super::doc::{Block, Cell, Doc, Figure, Rich, Tone};
 use super::quantity::named;
+use super::verdict::cell_text;
 use super::CaseEntry;
 use crate::study::jobs::{RunRecord, Status};
 use crate::study::orders::{self, expected, Order, Verdict};
@@ -21,31 +22,6 @@ const HEADLINE: [&[&str]; 3] = [
     &["err_sigma_l2_ref", "err_sigma_l2"],
     &["err_contact_radius"],
 ];
-
-/// The tone and mark of a verdict.
-fn mark(v: Verdict) -> (Tone, &'static str) {
-    match v {
-        Verdict::Meets => (Tone::Good, "✓"),
-        Verdict::Below => (Tone::Fair, "~"),
-        Verdict::Stalls | Verdict::Grows | Verdict::Flat | Verdict::Irregular => (Tone::Bad, "✗"),
-        Verdict::TooFewLevels => (Tone::Missing, "·"),
-    }
-}
-
-/// What a fit says, in a few words for a table cell: the order with its mark, or the flag.
-pub fn cell_text(o: &Order) -> (String, Tone) {
-    let v = o.verdict();
-    let (tone, m) = mark(v);
-    let text = match (v, o.fit) {
-        (Verdict::Stalls, Some((order, _))) => format!("{order:.2} {m} stalls"),
-        (_, Some((order, _))) if v.is_order() => format!("{order:.2} {m}"),
-        (Verdict::Grows, _) => format!("{m} grows"),
-        (Verdict::Flat, _) => format!("{m} flat"),
-        (Verdict::Irregular, _) => format!("{m} irregular"),
-        _ => format!("{m} too few levels"),
-    };
-    (text, tone)
-}
 
 /// What a fit says, in a sentence's words.
 pub fn says(o: &Order) -> String {
@@ -135,11 +111,12 @@ impl<'a> Data<'a> {
     }
 }
 
-/// The Findings section: the hook for the schemes compared, then per case its matrices and
-/// conclusions.
+/// The Findings section: the schemes compared ([`super::schemes_compared`]), then per case its
+/// matrices and conclusions.
 pub fn findings(
     d: &mut Doc,
     (records, orders): (&[RunRecord], &[Order]),
+    figures: &[Figure],
     cases: &[CaseEntry],
     quick: bool,
 ) {
@@ -170,7 +147,7 @@ pub fn findings(
              (`dyncontact report`) is the one to read.",
         );
     }
-    schemes_compared(d, &data);
+    super::schemes_compared::section(d, (records, orders), figures);
     for case in cases {
         let sweeps = data.sweeps(&case.kind);
         if sweeps.is_empty() {
@@ -204,11 +181,6 @@ pub fn findings(
         }
     }
 }
-
-/// Where the schemes are compared side by side, first in the findings (issue 23, "the
-/// time-scheme cures": a "Schemes compared" table and figure belong here, before the cases'
-/// matrices). Nothing is written until that comparison exists.
-fn schemes_compared(_d: &mut Doc, _data: &Data<'_>) {}
 
 /// The matrix of one case × sweep.
 fn matrix(d: &mut Doc, data: &Data<'_>, at: (&str, &str)) {

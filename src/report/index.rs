@@ -52,7 +52,7 @@ pub fn document(c: &Contents<'_>, files: &[String]) -> Doc {
         counts.join(", ")
     ));
     d.push(Block::Contents);
-    super::findings::findings(&mut d, (c.records, c.orders), c.cases, c.quick);
+    super::findings::findings(&mut d, (c.records, c.orders), c.figures, c.cases, c.quick);
     for case in c.cases {
         case_section(&mut d, c, case);
     }
@@ -471,7 +471,7 @@ pub fn order_table(orders: &[Order], case: &str, sweep: &str) -> (Vec<Rich>, Vec
                         && o.quantity == *q
                 });
                 order.map_or_else(Cell::default, |o| {
-                    let (text, tone) = super::findings::cell_text(o);
+                    let (text, tone) = super::verdict::cell_text(o);
                     Cell {
                         lines: vec![(Rich::default().text(text), tone)],
                         tone: Tone::Plain,

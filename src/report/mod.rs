@@ -20,7 +20,9 @@ pub mod findings;
 pub mod impact;
 pub mod index;
 pub mod quantity;
+pub mod schemes_compared;
 pub mod style;
+pub mod verdict;
 
 use crate::cases::{self, CaseFile};
 use crate::error::{Error, Result};
@@ -198,6 +200,7 @@ fn write(
     let orders = orders::orders(records);
     orders::write_orders(&out.join("orders.csv"), &orders)?;
     figures.splice(0..0, convergence_figures(out, records, &orders)?);
+    figures.extend(schemes_compared::figures(out, records)?);
     index::write_index(
         out,
         &index::Contents {
