@@ -14,7 +14,7 @@
 
 use crate::element::segment::Segment;
 use crate::error::{Error, Result};
-use crate::fem::assembly::assemble;
+use crate::fem::assembly::assemble_square;
 use crate::fem::assembly::{segment_mass, segment_mixed_mass, segment_stiffness};
 use crate::fem::boundary::contact_points;
 pub use crate::fem::dofs::DofMap;
@@ -236,26 +236,20 @@ impl Discretisation {
         (index, count)
     }
 
-    /// The stiffness `K` (element matrices in parallel, scattered in cell order).
+    /// The stiffness `K` (element matrices in parallel, added in cell order, streamed:
+    /// [`assemble_square`]).
     pub fn stiffness(&self) -> Result<SpMat> {
         let (d, mesh) = (self.dim(), &self.mesh);
-        let n = self.n_dofs();
-        let local: Vec<(Vec<Option<usize>>, DMatrix<f64>)> = (0..mesh.connectivity.len())
-            .into_par_iter()
-            .map(|c| {
-                let dofs = mesh.connectivity[c]
+        assemble_square(
+            self.n_dofs(),
+            mesh.connectivity.len(),
+            |c| {
+                mesh.connectivity[c]
                     .iter()
                     .flat_map(|&i| (0..d).map(move |comp| self.dofs.get(i, comp)))
-                    .collect();
-                (dofs, self.cell_stiffness(c))
-            })
-            .collect();
-        assemble(
-            n,
-            n,
-            local
-                .iter()
-                .map(|(dofs, k)| (dofs.clone(), dofs.clone(), k)),
+                    .collect()
+            },
+            |c| self.cell_stiffness(c),
         )
     }
 

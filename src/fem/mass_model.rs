@@ -3,7 +3,7 @@
 //! singular dynamic method. Produced by a discretisation ([`super::discretisation`]).
 
 use crate::error::Result;
-use crate::fem::assembly::assemble;
+use crate::fem::assembly::assemble_square;
 use crate::linalg::SpMat;
 use nalgebra::DMatrix;
 
@@ -60,28 +60,18 @@ pub struct MassModel {
 }
 
 impl MassModel {
-    /// Assembles `Σ_K Σ_c local(K, c)` over the elements and displacement components `c`.
-    /// The element matrices are computed in parallel (rayon), in element order.
+    /// Assembles `Σ_K Σ_c local(K, c)` over the elements and displacement components `c`
+    /// (streamed: [`assemble_square`], element matrices in parallel, added in element order).
     pub fn assemble(
         &self,
         local: impl Fn(&ElementMass, usize) -> DMatrix<f64> + Sync,
     ) -> Result<SpMat> {
-        use rayon::prelude::*;
-        let blocks: Vec<(Vec<Option<usize>>, DMatrix<f64>)> = self
-            .elements
-            .par_iter()
-            .flat_map_iter(|el| {
-                let local = &local;
-                el.dofs
-                    .iter()
-                    .enumerate()
-                    .map(move |(c, d)| (d.clone(), local(el, c)))
-            })
-            .collect();
-        assemble(
+        let comps = self.elements.first().map_or(1, |el| el.dofs.len());
+        assemble_square(
             self.n_dofs,
-            self.n_dofs,
-            blocks.iter().map(|(d, m)| (d.clone(), d.clone(), m)),
+            self.elements.len() * comps,
+            |k| self.elements[k / comps].dofs[k % comps].clone(),
+            |k| local(&self.elements[k / comps], k % comps),
         )
     }
 
