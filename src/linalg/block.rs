@@ -6,7 +6,9 @@ use super::vectors::masked_dot;
 
 /// A symmetric sparse matrix stored by dense b × b blocks (b = 3 or 2: the node blocks of a
 /// vector field numbered node by node), for products at less memory traffic than compressed
-/// columns (one 4-byte index per b² values).
+/// columns (one 4-byte index per b² values). The values are `f64`, or `f32` for the fast products
+/// of CG ([`BlockSym::rounded`], with the rounding errors kept apart for exact products,
+/// [`BlockSym::mul_exact`]).
 ///
 /// 2 × 2 blocks are all stored and gathered, `(A x)_J = Σ_I A_IJᵀ x_I` (by symmetry), block
 /// columns in parallel chunks. 3 × 3 blocks (3D, where the traffic dominates) are stored in the
@@ -16,14 +18,16 @@ use super::vectors::masked_dot;
 /// own full-length buffer (so the scattered additions never race) and the buffers summed in a
 /// fixed order: the result does not depend on the number of threads.
 #[derive(Debug)]
-pub struct BlockSym {
+pub struct BlockSym<T = f64> {
     b: usize,
     /// Only the blocks I ≤ J are stored.
     upper: bool,
     ptr: Vec<usize>,
     idx: Vec<u32>,
     /// Block (I, J), I ≤ J, row-major.
-    val: Vec<f64>,
+    val: Vec<T>,
+    /// For `f32` values, `A − val` rounded to `f32` (the exact value to 2⁻⁴⁸ relative).
+    rest: Vec<f32>,
     /// First block column of each part (and the end).
     cuts: Vec<usize>,
     /// One accumulation buffer per part.
@@ -35,7 +39,27 @@ pub struct BlockSym {
 /// of 4 saved about 8 % of a CG iteration on hertz3d).
 const PARTS: usize = 2;
 
-impl Clone for BlockSym {
+/// A stored value of a [`BlockSym`].
+pub trait BlockValue: Copy + Send + Sync + std::fmt::Debug {
+    /// The value in double precision.
+    fn get(self) -> f64;
+}
+
+impl BlockValue for f64 {
+    #[inline(always)]
+    fn get(self) -> f64 {
+        self
+    }
+}
+
+impl BlockValue for f32 {
+    #[inline(always)]
+    fn get(self) -> f64 {
+        f64::from(self)
+    }
+}
+
+impl<T: BlockValue> Clone for BlockSym<T> {
     fn clone(&self) -> Self {
         Self {
             b: self.b,
@@ -43,6 +67,7 @@ impl Clone for BlockSym {
             ptr: self.ptr.clone(),
             idx: self.idx.clone(),
             val: self.val.clone(),
+            rest: self.rest.clone(),
             cuts: self.cuts.clone(),
             parts: std::sync::Mutex::new(Vec::new()),
         }
@@ -100,32 +125,80 @@ impl BlockSym {
             ptr,
             idx,
             val,
+            rest: Vec::new(),
             cuts,
             parts: std::sync::Mutex::new(Vec::new()),
         })
     }
 
+    /// The same matrix with its values rounded to single precision (half the memory traffic of
+    /// a product, for the fast products of CG) and the rounding errors kept apart in single
+    /// precision, for [`BlockSym::mul_exact`]: the same memory as the double-precision values.
+    pub fn rounded(self) -> BlockSym<f32> {
+        let val: Vec<f32> = self.val.iter().map(|&v| v as f32).collect();
+        let rest = self
+            .val
+            .iter()
+            .zip(&val)
+            .map(|(&v, &h)| (v - f64::from(h)) as f32)
+            .collect();
+        BlockSym {
+            b: self.b,
+            upper: self.upper,
+            ptr: self.ptr,
+            idx: self.idx,
+            val,
+            rest,
+            cuts: self.cuts,
+            parts: std::sync::Mutex::new(Vec::new()),
+        }
+    }
+}
+
+impl BlockSym<f32> {
+    /// `y = A x` with the values restored from their single-precision parts (`val + rest`, the
+    /// matrix to 2⁻⁴⁸ relative), on the rayon pool.
+    pub fn mul_exact(&self, y: &mut [f64], x: &[f64]) {
+        let value = |k: usize| f64::from(self.val[k]) + f64::from(self.rest[k]);
+        self.apply(y, x, value, (|yi: &mut f64, v: f64| *yi = v, true));
+    }
+}
+
+impl<T: BlockValue> BlockSym<T> {
     /// Size b of the blocks.
     pub fn block_size(&self) -> usize {
         self.b
     }
 
+    /// The stored value k.
+    #[inline(always)]
+    fn value(&self, k: usize) -> f64 {
+        self.val[k].get()
+    }
+
     /// `y = A x`, the parts in parallel.
     pub fn mul(&self, y: &mut [f64], x: &[f64]) {
-        self.apply(y, x, |yi, v| *yi = v, true);
+        self.apply(y, x, |k| self.value(k), (|yi, v| *yi = v, true));
     }
 
     /// `y += alpha · A x`.
     pub fn mul_add(&self, y: &mut [f64], x: &[f64], alpha: f64) {
-        self.apply(y, x, |yi, v| *yi += alpha * v, true);
+        self.apply(y, x, |k| self.value(k), (|yi, v| *yi += alpha * v, true));
     }
 
     /// `y = A x` on the calling thread (beside the time loop, on the sampling thread).
     pub fn apply_serial(&self, y: &mut [f64], x: &[f64]) {
-        self.apply(y, x, |yi, v| *yi = v, false);
+        self.apply(y, x, |k| self.value(k), (|yi, v| *yi = v, false));
     }
 
-    fn apply(&self, y: &mut [f64], x: &[f64], f: impl Fn(&mut f64, f64) + Sync, parallel: bool) {
+    /// `f(y_i, (A x)_i)` for every i, with the stored value k read as `value(k)`.
+    fn apply(
+        &self,
+        y: &mut [f64],
+        x: &[f64],
+        value: impl Fn(usize) -> f64 + Sync,
+        (f, parallel): (impl Fn(&mut f64, f64) + Sync, bool),
+    ) {
         use rayon::prelude::*;
         if !self.upper {
             let chunk = |(ch, chunk): (usize, &mut [f64])| {
@@ -134,7 +207,7 @@ impl BlockSym {
                     let mut acc = [0.0; 2];
                     for q in self.ptr[jb]..self.ptr[jb + 1] {
                         let i = self.idx[q] as usize * 2;
-                        let blk = &self.val[q * 4..q * 4 + 4];
+                        let blk: [f64; 4] = std::array::from_fn(|e| value(q * 4 + e));
                         acc[0] += blk[0] * x[i] + blk[2] * x[i + 1];
                         acc[1] += blk[1] * x[i] + blk[3] * x[i + 1];
                     }
@@ -149,7 +222,7 @@ impl BlockSym {
             }
             return;
         }
-        let parts = self.upper_parts(x, parallel);
+        let parts = self.upper_parts(x, &value, parallel);
         for (i, yi) in y.iter_mut().enumerate() {
             f(yi, Self::sum_parts(&parts, i));
         }
@@ -162,19 +235,24 @@ impl BlockSym {
             self.mul(y, x);
             return masked_dot(y, x, free, |_, yi| yi);
         }
-        let parts = self.upper_parts(x, true);
+        let parts = self.upper_parts(x, &|k| self.value(k), true);
         masked_dot(y, x, free, |i, _| Self::sum_parts(&parts, i))
     }
 
     /// The [`PARTS`] partial products by 3 × 3 upper blocks (each in its own buffer).
-    fn upper_parts(&self, x: &[f64], parallel: bool) -> std::sync::MutexGuard<'_, Vec<Vec<f64>>> {
+    fn upper_parts(
+        &self,
+        x: &[f64],
+        value: &(impl Fn(usize) -> f64 + Sync),
+        parallel: bool,
+    ) -> std::sync::MutexGuard<'_, Vec<Vec<f64>>> {
         use rayon::prelude::*;
         let mut parts = self.parts.lock().unwrap_or_else(|e| e.into_inner());
         parts.resize_with(PARTS, Vec::new);
         let part = |(p, z): (usize, &mut Vec<f64>)| {
             z.clear();
             z.resize(x.len(), 0.0);
-            self.upper_part(p, x, z);
+            self.upper_part(p, x, z, value);
         };
         if parallel {
             parts.par_iter_mut().enumerate().for_each(part);
@@ -191,7 +269,8 @@ impl BlockSym {
     }
 
     /// Part `p` of the product by 3 × 3 upper blocks, accumulated in `z`.
-    fn upper_part(&self, p: usize, x: &[f64], z: &mut [f64]) {
+    #[inline(always)]
+    fn upper_part(&self, p: usize, x: &[f64], z: &mut [f64], value: &impl Fn(usize) -> f64) {
         const B: usize = 3;
         for jb in self.cuts[p]..self.cuts[p + 1] {
             let j = jb * B;
@@ -199,7 +278,7 @@ impl BlockSym {
             let mut acc = [0.0; B];
             for k in self.ptr[jb]..self.ptr[jb + 1] {
                 let i = self.idx[k] as usize * B;
-                let blk = &self.val[k * B * B..(k + 1) * B * B];
+                let blk: [f64; B * B] = std::array::from_fn(|e| value(k * B * B + e));
                 let xi = &x[i..i + B];
                 for (c, a) in acc.iter_mut().enumerate() {
                     *a += (0..B).map(|r| blk[r * B + c] * xi[r]).sum::<f64>();
@@ -239,6 +318,14 @@ mod tests {
             blocks.mul_add(&mut w, &x, 2.0);
             let expect: Vec<f64> = y.iter().map(|v| 1.0 + 2.0 * v).collect();
             assert!(max_diff(&w, &expect) < 1e-12, "b = {b}");
+            // Rounded to single precision: the fast product to about 2⁻²⁴, the exact one (with
+            // the rounding errors kept apart) to round-off.
+            let rounded = blocks.clone().rounded();
+            rounded.mul(&mut z, &x);
+            let fast = max_diff(&y, &z);
+            assert!(fast > 1e-12 && fast < 1e-6, "b = {b}: {fast:.3e}");
+            rounded.mul_exact(&mut z, &x);
+            assert!(max_diff(&y, &z) < 1e-12, "b = {b}");
             let q = quad(&a, &x, &x);
             for form in [QuadraticForm::new(&a), QuadraticForm::Block(blocks.clone())] {
                 assert!((form.eval(&x, &mut Vec::new()) - q).abs() < 1e-12 * q.abs());

@@ -5,6 +5,13 @@
 //! `x += αp, r −= αq, z = D⁻¹r` over chunks of [`PASS_CHUNK`] on the rayon pool, during which
 //! the factored block is solved on the other thread, and `p = z + βp`. Every sum is formed per
 //! chunk and the chunk sums added in order: the iterates do not depend on the number of threads.
+//!
+//! Mixed precision: a block matrix is stored with its values rounded to single precision and the
+//! rounding errors kept apart ([`BlockSym::rounded`], the memory of the double-precision values).
+//! The iterations use the single-precision values (a product at 0.6–0.8 of the time once the
+//! matrix no longer fits in cache: hertz3d n = 32, 402 819 dofs, 13.0 against 16.2 ms); the
+//! residual `b − A x` is formed with the exact matrix at the start and checked at the end, and the
+//! iterations go on from there if it is above the tolerance.
 
 use super::factor::{check_finite, factor_err};
 use super::PASS_CHUNK;
@@ -15,7 +22,8 @@ use crate::error::Result;
 /// The product of a symmetric matrix: by blocks where it has them, by compressed columns otherwise.
 #[derive(Debug, Clone)]
 enum SymOperator {
-    Block(BlockSym),
+    /// Single-precision values for the fast products, their rounding errors for the exact ones.
+    Block(BlockSym<f32>),
     Csc(SpMat),
 }
 
@@ -28,15 +36,17 @@ impl SymOperator {
         }
     }
 
+    /// `y = A x` with the exact matrix.
     fn mul(&self, y: &mut [f64], x: &[f64]) {
         match self {
-            Self::Block(b) => b.mul(y, x),
+            Self::Block(b) => b.mul_exact(y, x),
             Self::Csc(a) => sym_mul(y, a, x),
         }
     }
 
-    /// `y = Π A x` (Π: zero where not free), returning `xᵀ y`.
-    fn mul_masked_dot(&self, y: &mut [f64], x: &[f64], free: &[bool]) -> f64 {
+    /// `y = Π Ã x` (Π: zero where not free) with the fast matrix Ã (A rounded to single
+    /// precision for a block matrix), returning `xᵀ y`.
+    fn mul_masked_dot_fast(&self, y: &mut [f64], x: &[f64], free: &[bool]) -> f64 {
         match self {
             Self::Block(b) => b.mul_masked_dot(y, x, free),
             Self::Csc(a) => {
@@ -258,7 +268,10 @@ impl Pcg {
                 format!("not positive definite: diagonal entry {i} is {}", diag[i]),
             ));
         }
-        let op = BlockSym::new(a).map_or_else(|| SymOperator::Csc(a.clone()), SymOperator::Block);
+        let op = BlockSym::new(a).map_or_else(
+            || SymOperator::Csc(a.clone()),
+            |b| SymOperator::Block(b.rounded()),
+        );
         let mut factored = vec![false; n];
         for &i in &dofs {
             factored[i] = true;
@@ -309,6 +322,12 @@ impl Pcg {
     /// As [`Pcg::solve`], and also stops (returning the iterations so far) at the first iterate
     /// with `‖r‖₂ ≤ check ‖b‖₂` for which `stop(x)` holds: for an outer loop that will change
     /// the system on seeing such an iterate.
+    ///
+    /// The iterations use the fast product (single-precision values for a block matrix); their
+    /// recursive residual is then checked against `b − A x` with the exact matrix, and the
+    /// iterations go on from there until the exact residual meets the tolerance. From a good
+    /// guess one pass suffices: the rounding of A (2⁻²⁴ relative) only enters through the
+    /// correction `x − x₀`, whose residual is small.
     pub fn solve_until(
         &mut self,
         b: &[f64],
@@ -317,6 +336,47 @@ impl Pcg {
         (tol, max_iter): (f64, usize),
         (check, mut stop): (f64, impl FnMut(&[f64]) -> bool),
     ) -> std::result::Result<usize, f64> {
+        let b2: f64 = (0..x.len()).filter(|&i| free[i]).map(|i| b[i] * b[i]).sum();
+        let (target2, check2) = (tol * tol * b2, check * check * b2);
+        let mut it = 0;
+        loop {
+            let res2 = self.residual(b, x, free);
+            if res2 <= target2 {
+                return Ok(it);
+            }
+            let (done, stopped) =
+                self.iterate(x, free, (target2, max_iter - it), (check2, &mut stop));
+            it += done;
+            if stopped {
+                return Ok(it);
+            }
+            if done == 0 {
+                return Err((res2 / b2).sqrt());
+            }
+        }
+    }
+
+    /// `r = Π (b − A x)` with the exact matrix; returns `r·r`.
+    fn residual(&mut self, b: &[f64], x: &[f64], free: &[bool]) -> f64 {
+        let (r, q) = (&mut self.r, &mut self.q);
+        self.op.mul(q, x);
+        for i in 0..x.len() {
+            r[i] = if free[i] { b[i] - q[i] } else { 0.0 };
+        }
+        dot(r, r)
+    }
+
+    /// PCG iterations with the fast product from `x` and its residual `r` (in `self.r`), until
+    /// the recursive residual is below `target2` (squared), `limit` iterations are done, or
+    /// `stop(x)` holds at an iterate with a squared residual below `check2`. Returns the
+    /// iterations and whether `stop` ended them.
+    fn iterate(
+        &mut self,
+        x: &mut [f64],
+        free: &[bool],
+        (target2, limit): (f64, usize),
+        (check2, stop): (f64, &mut impl FnMut(&[f64]) -> bool),
+    ) -> (usize, bool) {
         let Self {
             op,
             jacobi,
@@ -326,29 +386,20 @@ impl Pcg {
             p,
             q,
         } = self;
-        let masked = |i: usize, v: f64| if free[i] { v } else { 0.0 };
-        op.mul(q, x);
-        let mut b2 = 0.0;
-        for i in 0..x.len() {
-            r[i] = masked(i, b[i] - q[i]);
-            b2 += masked(i, b[i]).powi(2);
-        }
-        let target2 = tol * tol * b2;
         // Jacobi leaves z = 0 on the block, which adds its own part.
         let mut rz =
             jacobi.apply(0, r, z, free) + block.as_mut().map_or(0.0, |bl| bl.apply(r, z, free));
         p.copy_from_slice(z);
         let mut res2 = dot(r, r);
         let mut it = 0;
-        let check2 = check * check * b2;
         while res2 > target2 {
             if res2 <= check2 && stop(x) {
-                return Ok(it);
+                return (it, true);
             }
-            if it == max_iter {
-                return Err((res2 / b2).sqrt());
+            if it == limit {
+                break;
             }
-            let alpha = rz / op.mul_masked_dot(q, p, free);
+            let alpha = rz / op.mul_masked_dot_fast(q, p, free);
             if let Some(bl) = block.as_mut() {
                 bl.load(|i| r[i] - alpha * q[i]);
             }
@@ -370,7 +421,7 @@ impl Pcg {
             rz = rz_new;
             it += 1;
         }
-        Ok(it)
+        (it, false)
     }
 }
 

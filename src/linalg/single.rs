@@ -19,7 +19,12 @@ pub struct SingleFactor {
 
 impl std::fmt::Debug for SingleFactor {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "SingleFactor(LLt, n = {})", self.n)
+        write!(
+            f,
+            "SingleFactor(LLt, n = {}, {} entries)",
+            self.n,
+            self.values.len()
+        )
     }
 }
 
