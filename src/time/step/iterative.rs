@@ -48,7 +48,8 @@ const ACTIVE_SET_TOLERANCE: f64 = 1e-8;
 
 /// The CG step with its active set and solution history.
 pub struct IterativeStep {
-    a: SpMat,
+    /// Row `d_i` of A at every contact point (A itself lives in the preconditioned CG only).
+    rows: Vec<Vec<(usize, f64)>>,
     pcg: Pcg,
     c: f64,
     /// `(d_i, b_i)` of every contact point: row i of B_N is `b_i e_{d_i}ᵀ`.
@@ -76,7 +77,7 @@ impl IterativeStep {
         let block = massless_neighbourhood(m, k);
         Ok(Self {
             pcg: Pcg::with_block(&a, "step matrix m·M + k·K", block)?,
-            a,
+            rows: points.iter().map(|&(d, _)| column(&a, d)).collect(),
             c,
             active: vec![false; points.len()],
             points,
@@ -153,7 +154,7 @@ impl IterativeStep {
         u: &[f64],
         lambda: &mut [f64],
     ) -> bool {
-        let law = Signorini::new(&self.a, self.c, (r, offset), tau);
+        let law = Signorini::new(&self.rows, self.c, (r, offset), tau);
         let mut changed = false;
         for (i, &point) in self.points.iter().enumerate() {
             let (l, flips) = law.verdict(i, point, self.active[i], u);
@@ -178,14 +179,14 @@ impl IterativeStep {
     ) -> Result<()> {
         let Self {
             pcg,
-            a,
+            rows,
             c,
             points,
             active,
             free,
             ..
         } = self;
-        let law = stop.map(|(offset, tau)| Signorini::new(a, *c, (r, offset), tau));
+        let law = stop.map(|(offset, tau)| Signorini::new(rows, *c, (r, offset), tau));
         let changes = |u: &[f64]| {
             law.as_ref().is_some_and(|law| {
                 let mut points = points.iter().zip(active.iter()).enumerate();
@@ -246,7 +247,8 @@ impl IterativeStep {
 /// The Signorini law at the contact points for a step's right-hand side `r` and offsets `o`,
 /// with the thresholds of the active-set update.
 struct Signorini<'a> {
-    a: &'a SpMat,
+    /// Row `d_i` of A at every point.
+    rows: &'a [Vec<(usize, f64)>],
     c: f64,
     r: &'a [f64],
     offset: &'a [f64],
@@ -256,13 +258,13 @@ struct Signorini<'a> {
 
 impl<'a> Signorini<'a> {
     fn new(
-        a: &'a SpMat,
+        rows: &'a [Vec<(usize, f64)>],
         c: f64,
         (r, offset): (&'a [f64], &'a [f64]),
         (tau_g, tau_l): (f64, f64),
     ) -> Self {
         Self {
-            a,
+            rows,
             c,
             r,
             offset,
@@ -276,7 +278,8 @@ impl<'a> Signorini<'a> {
     /// (`g_i = o_i − b_i u_{d_i} < −τ_g`).
     fn verdict(&self, i: usize, (d, b): (usize, f64), active: bool, u: &[f64]) -> (f64, bool) {
         if active {
-            let l = (self.r[d] - row_times(self.a, d, u)) / (self.c * b);
+            let row: f64 = self.rows[i].iter().map(|&(j, v)| v * u[j]).sum();
+            let l = (self.r[d] - row) / (self.c * b);
             (l, l < -self.tau_l)
         } else {
             (0.0, self.offset[i] - b * u[d] < -self.tau_g)
@@ -310,14 +313,11 @@ fn massless_neighbourhood(m: &SpMat, k: &SpMat) -> Vec<usize> {
     (0..mass.len()).filter(|&i| block[i]).collect()
 }
 
-/// `(A u)_d`: row d of the symmetric A is its column d.
-fn row_times(a: &SpMat, d: usize, u: &[f64]) -> f64 {
+/// Row d of the symmetric `a` (its column d) as `(j, A_dj)`.
+fn column(a: &SpMat, d: usize) -> Vec<(usize, f64)> {
     let a = a.as_ref();
-    a.row_idx_of_col_raw(d)
-        .iter()
-        .zip(a.val_of_col(d))
-        .map(|(&i, &v)| v * u[i])
-        .sum()
+    let rows = a.row_idx_of_col_raw(d).iter().copied();
+    rows.zip(a.val_of_col(d).iter().copied()).collect()
 }
 
 /// `(d_i, b_i)` of every contact point, or why `B_N` is not nodal along axes.
