@@ -142,25 +142,28 @@ fn element_pattern(
             next[i] += 1;
         }
     }
-    // Rows of column j: the dofs of the elements holding j, sorted and deduplicated.
-    let columns: Vec<Vec<usize>> = (0..n)
-        .into_par_iter()
-        .map(|j| {
-            let mut rows: Vec<usize> = elements[start[j]..start[j + 1]]
-                .iter()
-                .flat_map(|&e| dofs(e).into_iter().flatten())
-                .collect();
-            rows.sort_unstable();
-            rows.dedup();
-            rows
-        })
-        .collect();
+    // Rows of column j: the dofs of the elements holding j, sorted and deduplicated (in parallel
+    // by chunks of columns, appended in order).
     let mut col_ptr = Vec::with_capacity(n + 1);
     col_ptr.push(0);
-    let mut row_idx = Vec::with_capacity(columns.iter().map(Vec::len).sum());
-    for rows in columns {
-        row_idx.extend_from_slice(&rows);
-        col_ptr.push(row_idx.len());
+    let mut row_idx = Vec::new();
+    for first in (0..n).step_by(ASSEMBLY_CHUNK) {
+        let columns: Vec<Vec<usize>> = (first..n.min(first + ASSEMBLY_CHUNK))
+            .into_par_iter()
+            .map(|j| {
+                let mut rows: Vec<usize> = elements[start[j]..start[j + 1]]
+                    .iter()
+                    .flat_map(|&e| dofs(e).into_iter().flatten())
+                    .collect();
+                rows.sort_unstable();
+                rows.dedup();
+                rows
+            })
+            .collect();
+        for rows in columns {
+            row_idx.extend_from_slice(&rows);
+            col_ptr.push(row_idx.len());
+        }
     }
     Ok((col_ptr, row_idx))
 }
