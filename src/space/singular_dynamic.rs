@@ -8,8 +8,8 @@
 //!
 //! The schemes carry the inertial variables `w = C⁻¹ B U` ∈ H_h: the inertial force of y is
 //! `Bᵀ y`, the kinetic energy `½ vᵀ C v`, and the step matrix `m M + k K` becomes the sparse
-//! saddle system `[k K, m Bᵀ; B, −C] (U, w) = (r, 0)` (second block row: `C w = B U`), factored
-//! once by LU ([`SaddleMass`]).
+//! saddle system `[k K, m Bᵀ; m B, −m C] (U, w) = (r, 0)` (second block row: `m (C w − B U) = 0`,
+//! scaled by m so that the matrix is symmetric), factored once by LBLᵀ ([`SaddleMass`]).
 
 use super::{MassModel, Space, VelocitySpace};
 use crate::error::{Error, Result};
@@ -76,18 +76,27 @@ impl Inertia for SaddleMass {
     }
 
     /// The unknowns are `(U, w)` and the matrix is the sparse saddle system
-    /// `[k_coef K, m_coef Bᵀ; B, −C]` (second block row: `C w = B U`), factored by LU.
+    /// `[k_coef K, m_coef Bᵀ; m_coef B, −m_coef C]` (second block row: `C w = B U` scaled by
+    /// m_coef, so that the matrix is symmetric), factored by [`Factor::symmetric_indefinite`]; with
+    /// m_coef = 0 the row is left unscaled (`[k K, 0; B, −C]`) and factored by LU.
     fn step_operator(&self, k: &SpMat, m_coef: f64, k_coef: f64) -> Result<Box<dyn StepOperator>> {
         let (n, nh) = (k.nrows(), self.c.nrows());
         let mut t = TripletBuilder::new(n + nh, n + nh);
         t.add_scaled(0, 0, k_coef, k);
+        // The second block row scaled by m_coef (its right-hand side is 0): a symmetric matrix.
+        let row = if m_coef != 0.0 { m_coef } else { 1.0 };
         for (i, j, v) in linalg::triplets(&self.b) {
             t.add(j, n + i, m_coef * v);
-            t.add(n + i, j, v);
+            t.add(n + i, j, row * v);
         }
-        t.add_scaled(n, n, -1.0, &self.c);
+        t.add_scaled(n, n, -row, &self.c);
+        let (a, name) = (t.build()?, "singular dynamic saddle system");
         Ok(Box::new(SaddleStep {
-            factor: Factor::lu(&t.build()?, "singular dynamic saddle system")?,
+            factor: if m_coef != 0.0 {
+                Factor::symmetric_indefinite(&a, name)?
+            } else {
+                Factor::lu(&a, name)?
+            },
             n,
             x: vec![0.0; n + nh],
         }))
