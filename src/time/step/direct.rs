@@ -5,9 +5,11 @@
 //! `q = o − B_N X*`, `Z = A⁻¹ B_Nᵀ` and `D = c B_N Z` (Delassus operator, n_c × n_c). The offset
 //! `o` is the initial gap g₀ for a position-level law (then γ is the gap at the new level) and a
 //! velocity term for Moreau–Jean; `o_i = +∞` excludes point i from the step.
-//! `Z` is kept when it is small (entries ≤ [`STORE_Z_LIMIT`]; for a sparse mass its inertial
-//! part is `Z` itself and is not stored twice); otherwise the corrected state is obtained by a
-//! second solve.
+//! Only the columns of D (and Z) of the points that come into contact are formed, the first time
+//! they enter a step's working set ([`DirectStep::solve_with`]): on a 3D body most points of Γ_C
+//! never touch. `Z`'s columns are kept while their entries stay within [`STORE_Z_LIMIT`] (for a
+//! sparse mass its inertial part is `Z` itself and is not stored twice); otherwise the corrected
+//! state is obtained by a second solve.
 
 use crate::contact::{SolveInfo, Solver};
 use crate::error::{Error, Result};
@@ -21,36 +23,42 @@ const BLOCK: usize = 64;
 /// Above this many entries `Z = A⁻¹ B_Nᵀ` is not stored; a second solve is done instead.
 pub const STORE_Z_LIMIT: usize = 30_000_000;
 
-/// Columns of `Z = A⁻¹ B_Nᵀ`: displacement part and, for the mixed mass, inertial part (empty
-/// for a sparse mass, whose inertial variables are the displacements), one vector per point.
-struct Coupling {
-    zu: Vec<Vec<f64>>,
-    zw: Vec<Vec<f64>>,
-}
-
 /// `Σ v u_j` over a sparse row of `(j, v)`.
 fn row_dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
     row.iter().map(|&(j, v)| v * u[j]).sum()
 }
 
-/// Constant step operator, factored once, with its contact coupling.
+/// Constant step operator, factored once, with its contact coupling formed column by column
+/// for the points that enter a step's working set (see [`DirectStep::solve_with`]).
 pub struct DirectStep {
     op: Box<dyn StepOperator>,
     /// The formulation's law (taken out while it solves).
     solver: Option<Box<dyn Solver>>,
-    /// `A⁻¹ B_Nᵀ`, when small enough to store.
-    z: Option<Coupling>,
+    /// Columns of `Z = A⁻¹ Qᵀ` formed so far (displacement part, inertial part: empty for a
+    /// sparse mass, whose inertial variables are the displacements), while their entries stay
+    /// within [`STORE_Z_LIMIT`].
+    z: Vec<Option<(Vec<f64>, Vec<f64>)>>,
+    stored: usize,
+    /// `D = c B_N Z`: the columns in `formed` only (zero elsewhere).
     d: DMatrix<f64>,
+    formed: Vec<bool>,
+    /// `D` is symmetric (`Q = B_N`): each pair of formed columns is averaged with its transpose.
+    symmetric: bool,
     c: f64,
     q: Vec<f64>,
     rhs: Vec<f64>,
-    /// Rows of `B_N` as `(dof, value)` lists (n_c short rows: `B_N U` without a pass over n).
+    /// Rows of `B_N` and of `Q` as `(dof, value)` lists (n_c short rows: `B_N U` without a pass
+    /// over n).
     b_rows: Vec<Vec<(usize, f64)>>,
+    f_rows: Vec<Vec<(usize, f64)>>,
+    /// Sizes of U and of the inertial variables.
+    n: usize,
+    nw: usize,
 }
 
 impl DirectStep {
-    /// Factors `m_coef M + k_coef K` and forms the Delassus matrix `D = c B_N A⁻¹ B_Nᵀ`
-    /// (`c` is the factor of `B_Nᵀ λ` in the step equation).
+    /// Factors `m_coef M + k_coef K`; the Delassus matrix `D = c B_N A⁻¹ Qᵀ` (`c` is the factor
+    /// of `Qᵀ λ` in the step equation) is formed column by column as points come into contact.
     pub fn new(
         problem: &Problem,
         (m_coef, k_coef): (f64, f64),
@@ -69,56 +77,71 @@ impl DirectStep {
         c: f64,
         solver: Box<dyn Solver>,
     ) -> Result<Self> {
-        let mut op = problem.inertia.step_operator(k, m_coef, k_coef)?;
+        let op = problem.inertia.step_operator(k, m_coef, k_coef)?;
         let (n, nw, nc) = (problem.n(), problem.inertia.dim(), problem.contact.len());
-        let mut d = DMatrix::zeros(nc, nc);
-        let mut zu = Vec::with_capacity(nc);
-        let mut zw = Vec::with_capacity(nc);
-        let mixed = op.is_mixed();
-        let stored_len = if mixed { n + nw } else { n };
-        let store = stored_len * nc <= STORE_Z_LIMIT;
-        let b_rows = linalg::rows(&problem.contact.b_n);
-        // The force rows: B_N, or other rows Q (then D = c B_N A⁻¹ Qᵀ is not symmetric).
-        let f_rows = linalg::rows(problem.contact.force_rows());
-        // Columns of Z = A⁻¹ Qᵀ by blocks of right-hand sides (blocked triangular solves).
-        for start in (0..nc).step_by(BLOCK) {
-            let cols = BLOCK.min(nc - start);
-            let mut u = vec![0.0; n * cols];
-            let mut w = vec![0.0; nw * cols];
-            for (k, row) in f_rows[start..start + cols].iter().enumerate() {
-                for &(j, v) in row {
-                    u[k * n + j] += v;
+        Ok(Self {
+            op,
+            solver: Some(solver),
+            z: vec![None; nc],
+            stored: 0,
+            d: DMatrix::zeros(nc, nc),
+            formed: vec![false; nc],
+            symmetric: problem.contact.force.is_none(),
+            c,
+            q: vec![0.0; nc],
+            rhs: vec![0.0; n],
+            b_rows: linalg::rows(&problem.contact.b_n),
+            f_rows: linalg::rows(problem.contact.force_rows()),
+            n,
+            nw,
+        })
+    }
+
+    /// Forms the columns `cols` of Z and D not formed yet, by blocks of right-hand sides
+    /// (blocked triangular solves), and averages each new pair of formed columns with its
+    /// transpose when D is symmetric.
+    fn form(&mut self, cols: &[usize]) {
+        let (n, nw) = (self.n, self.nw);
+        let new: Vec<usize> = cols.iter().copied().filter(|&j| !self.formed[j]).collect();
+        let mixed = self.op.is_mixed();
+        for block in new.chunks(BLOCK) {
+            let k = block.len();
+            let mut u = vec![0.0; n * k];
+            let mut w = vec![0.0; nw * k];
+            for (b, &j) in block.iter().enumerate() {
+                for &(i, v) in &self.f_rows[j] {
+                    u[b * n + i] += v;
                 }
             }
-            op.solve_columns(&mut u, &mut w, cols);
-            for k in 0..cols {
-                let (uc, wc) = (&u[k * n..(k + 1) * n], &w[k * nw..(k + 1) * nw]);
-                for (i, row) in b_rows.iter().enumerate() {
-                    d[(i, start + k)] = c * row_dot(row, uc);
+            self.op.solve_columns(&mut u, &mut w, k);
+            for (b, &j) in block.iter().enumerate() {
+                let (uc, wc) = (&u[b * n..(b + 1) * n], &w[b * nw..(b + 1) * nw]);
+                for (i, row) in self.b_rows.iter().enumerate() {
+                    self.d[(i, j)] = self.c * row_dot(row, uc);
                 }
-                if store {
-                    zu.push(uc.to_vec());
-                    if mixed {
-                        zw.push(wc.to_vec());
+                let len = if mixed { n + nw } else { n };
+                if self.stored + len <= STORE_Z_LIMIT {
+                    self.stored += len;
+                    let zw = if mixed { wc.to_vec() } else { Vec::new() };
+                    self.z[j] = Some((uc.to_vec(), zw));
+                }
+            }
+        }
+        for &j in &new {
+            self.formed[j] = true;
+        }
+        if self.symmetric {
+            for &j in &new {
+                for i in 0..self.formed.len() {
+                    // A pair of new columns is visited twice: the mean is idempotent.
+                    if self.formed[i] {
+                        let mean = 0.5 * (self.d[(i, j)] + self.d[(j, i)]);
+                        self.d[(i, j)] = mean;
+                        self.d[(j, i)] = mean;
                     }
                 }
             }
         }
-        let d = if problem.contact.force.is_some() {
-            d
-        } else {
-            (&d + d.transpose()) * 0.5
-        };
-        Ok(Self {
-            op,
-            solver: Some(solver),
-            z: store.then_some(Coupling { zu, zw }),
-            d,
-            c,
-            q: vec![0.0; nc],
-            rhs: vec![0.0; n],
-            b_rows,
-        })
     }
 
     /// Solves `A X = r` without contact (X: displacement-like unknowns `u`, inertial `w`).
@@ -161,31 +184,70 @@ impl DirectStep {
         for (q, row) in self.q.iter_mut().zip(&self.b_rows) {
             *q -= row_dot(row, u);
         }
-        let info = law
-            .solve(&self.d, &self.q, lambda)
-            .map_err(|reason| Error::ContactSolver { step, time, reason })?;
+        // The working set: the points predicted in contact or warm-started, grown by the points
+        // that the solution on it penetrates until there are none (the law sees q_i = +∞, i.e.
+        // excludes, outside the set; D is formed on the set's columns only).
+        let nc = self.q.len();
+        let mut set: Vec<bool> = (0..nc)
+            .map(|i| self.q[i].is_finite() && (self.q[i] < 0.0 || lambda[i] != 0.0))
+            .collect();
+        let mut info = SolveInfo::default();
+        loop {
+            let cols: Vec<usize> = (0..nc).filter(|&i| set[i]).collect();
+            self.form(&cols);
+            let q_set: Vec<f64> = (0..nc)
+                .map(|i| if set[i] { self.q[i] } else { f64::INFINITY })
+                .collect();
+            for (l, &s) in lambda.iter_mut().zip(&set) {
+                if !s {
+                    *l = 0.0;
+                }
+            }
+            let round = law
+                .solve(&self.d, &q_set, lambda)
+                .map_err(|reason| Error::ContactSolver { step, time, reason })?;
+            info = SolveInfo {
+                iterations: info.iterations + round.iterations,
+                active: round.active,
+            };
+            let mut gap = self.q.clone();
+            for (j, &l) in lambda.iter().enumerate().filter(|e| *e.1 != 0.0) {
+                linalg::axpy(&mut gap, l, self.d.column(j).as_slice());
+            }
+            let mut grown = false;
+            for i in 0..nc {
+                if !set[i] && self.q[i].is_finite() && gap[i] < 0.0 {
+                    set[i] = true;
+                    grown = true;
+                }
+            }
+            if !grown {
+                break;
+            }
+        }
         if lambda.iter().all(|&l| l == 0.0) {
             return Ok(info);
         }
-        match &self.z {
-            Some(Coupling { zu, zw }) => {
-                for (j, &l) in lambda.iter().enumerate() {
-                    if l != 0.0 {
-                        linalg::axpy(u, -self.c * l, &zu[j]);
-                        if let Some(zwj) = zw.get(j) {
-                            linalg::axpy(w, -self.c * l, zwj);
-                        }
+        let stored = lambda
+            .iter()
+            .zip(&self.z)
+            .all(|(&l, z)| l == 0.0 || z.is_some());
+        if stored {
+            for (&l, z) in lambda.iter().zip(&self.z) {
+                if let (true, Some((zu, zw))) = (l != 0.0, z) {
+                    linalg::axpy(u, -self.c * l, zu);
+                    if !zw.is_empty() {
+                        linalg::axpy(w, -self.c * l, zw);
                     }
                 }
-                if zw.is_empty() {
-                    w.copy_from_slice(u);
-                }
             }
-            None => {
-                self.rhs.copy_from_slice(r);
-                linalg::mul_t_add(&mut self.rhs, problem.contact.force_rows(), lambda, -self.c);
-                self.op.solve(&self.rhs, u, w);
+            if !self.op.is_mixed() {
+                w.copy_from_slice(u);
             }
+        } else {
+            self.rhs.copy_from_slice(r);
+            linalg::mul_t_add(&mut self.rhs, problem.contact.force_rows(), lambda, -self.c);
+            self.op.solve(&self.rhs, u, w);
         }
         Ok(info)
     }
