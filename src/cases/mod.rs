@@ -5,6 +5,7 @@
 //! table with the default space, scheme and time step; the rest depends on the kind
 //! (see `cases/bar1d.toml`, `cases/spring_mass.toml`).
 
+pub mod bar;
 pub mod bar1d;
 pub mod body;
 pub mod spring_mass;

@@ -5,7 +5,7 @@
 //! x = s, x = 1 − s, `u` is piecewise linear (table of the reference). Scaled problem (bar (0, L),
 //! E, ρ, c = √(E/ρ), `u₀ = a (1 − x/L)`): `u(x, t) = 2a U(x/L, c t/L)` (`methods.md`).
 
-use super::{ContactValues, ExactContact};
+use super::{ContactValues, ExactContact, PiecewiseLinearBar};
 
 /// The bar impact solution for length `length`, modulus `young`, density `density`, lift `lift`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,9 +45,18 @@ impl BarImpact {
     pub fn wave_speed(&self) -> f64 {
         (self.young / self.density).sqrt()
     }
+}
 
-    /// `(u, σ = E u_x, u_t)` at (x, t).
-    pub fn field(&self, x: f64, t: f64) -> (f64, f64, f64) {
+impl PiecewiseLinearBar for BarImpact {
+    fn length(&self) -> f64 {
+        self.length
+    }
+
+    fn young(&self) -> f64 {
+        self.young
+    }
+
+    fn field(&self, x: f64, t: f64) -> (f64, f64, f64) {
         let (l, c, a) = (self.length, self.wave_speed(), self.lift);
         let (u, ux, ut) = unit(x / l, c * t / l);
         (
@@ -55,6 +64,15 @@ impl BarImpact {
             self.young * 2.0 * a * ux / l,
             2.0 * a * ut * c / l,
         )
+    }
+
+    /// The characteristics x = sL, (1 − s)L of the current phase (s = frac(c t / L)).
+    fn kinks(&self, t: f64) -> [f64; 2] {
+        let l = self.length;
+        let frac = (self.wave_speed() * t / l).rem_euclid(3.0).fract();
+        let mut kinks = [frac * l, (1.0 - frac) * l];
+        kinks.sort_by(f64::total_cmp);
+        kinks
     }
 }
 

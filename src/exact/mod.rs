@@ -25,3 +25,18 @@ pub trait ExactContact: Send + Sync {
     /// Time of the first impact, if any.
     fn first_impact(&self) -> Option<f64>;
 }
+
+/// An exact 1D bar solution (bar (0, L), modulus E) that is piecewise linear in x at every t,
+/// with at most two kinks (its wave fronts): the bar cases' field errors are exact per piece
+/// ([`crate::cases::bar::BarFieldError`]).
+pub trait PiecewiseLinearBar: ExactContact {
+    /// L.
+    fn length(&self) -> f64;
+    /// E.
+    fn young(&self) -> f64;
+    /// `(u, σ = E u_x, u_t)` at (x, t).
+    fn field(&self, x: f64, t: f64) -> (f64, f64, f64);
+    /// The kinks of `u(·, t)` in increasing order; a kink may repeat, or lie at 0 or L, when
+    /// there are fewer than two inside the bar.
+    fn kinks(&self, t: f64) -> [f64; 2];
+}
