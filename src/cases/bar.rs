@@ -1,18 +1,22 @@
 //! What the 1D bar cases share ([`super::bar1d`], [`super::bar_flight`]): the `[material]` and
-//! `[mesh]` tables, the bar's discretisation (a uniform interval mesh of P1/P2 segments through
-//! [`Discretisation`], ν = 0 so that `σ = E u'`, Γ_C its end x = 0) and the exact-field errors
-//! against a solution that is piecewise linear in x ([`BarFieldError`]).
+//! `[mesh]` tables, the case itself ([`Bar`]: an exact solution, the bar's discretisation — a
+//! uniform interval mesh of P1/P2 segments through [`Discretisation`], ν = 0 so that `σ = E u'`,
+//! Γ_C its end x = 0 — started from the exact state at t = 0) and the exact-field errors against
+//! a solution that is piecewise linear in x ([`BarFieldError`]).
 
-use super::{FieldError, Overrides};
+use super::sweep::SweepSpec;
+use super::{Case, FieldError, Overrides, RunSpec};
 use crate::element::quadrature::gauss_legendre_01;
 use crate::element::segment::Segment;
-use crate::error::{Error, Result};
-use crate::exact::PiecewiseLinearBar;
+use crate::error::{positive, Error, Result};
+use crate::exact::{ExactContact, PiecewiseLinearBar};
 use crate::fem::assembly::{segment_mass, segment_stiffness};
-use crate::fem::discretisation::Discretisation;
+use crate::fem::discretisation::{Discretisation, Initial};
 use crate::fem::elasticity::Lame;
 use crate::mesh::interval::interval;
 use crate::mesh::{ContactRule, FACING};
+use crate::problem::Problem;
+use crate::space::{MassModel, Space};
 use serde::Deserialize;
 
 /// `[material]`.
@@ -23,6 +27,15 @@ pub struct Material {
     pub young: f64,
     /// Density ρ.
     pub density: f64,
+}
+
+impl Material {
+    /// E > 0 and ρ > 0.
+    pub fn validate(&self) -> Result<()> {
+        positive("material.young", self.young)?;
+        positive("material.density", self.density)?;
+        Ok(())
+    }
 }
 
 /// `[mesh]`.
@@ -46,9 +59,115 @@ impl MeshSpec {
     }
 }
 
+/// The exact solution a bar case kind is built on, and the kind's name.
+pub trait BarExact: PiecewiseLinearBar + Clone + std::fmt::Debug + 'static {
+    /// The case kind (`case = "…"` of its files).
+    const KIND: &'static str;
+}
+
+/// A 1D bar case: the exact solution `X`, the bar's discretisation (every node free, or clamped
+/// at x = L), the run settings and the sweeps. The discrete run starts from the exact
+/// displacement and velocity at t = 0, interpolated at the nodes.
+#[derive(Debug, Clone)]
+pub struct Bar<X> {
+    /// The exact solution with the case's parameters.
+    pub exact: X,
+    /// The bar's discretisation: a uniform interval mesh of P1/P2 segments, Γ_C its end x = 0
+    /// (ν = 0: `σ = E u'`).
+    pub fem: Discretisation,
+    run: RunSpec,
+    sweeps: Vec<SweepSpec>,
+}
+
+impl<X: BarExact> Bar<X> {
+    /// The bar of `exact` with `elements` elements of degree `degree`, clamped at x = L when
+    /// `clamped`.
+    pub fn new(
+        exact: X,
+        elements: usize,
+        degree: usize,
+        clamped: bool,
+        run: RunSpec,
+    ) -> Result<Self> {
+        let length = exact.length();
+        let fem = discretisation(length, exact.young(), exact.density(), elements, degree)?;
+        let fem = if clamped {
+            fem.clamped(|x| (x[0] - length).abs() < 1e-9 * length)?
+        } else {
+            fem
+        };
+        Ok(Self {
+            exact,
+            fem,
+            run,
+            sweeps: Vec::new(),
+        })
+    }
+
+    /// `self` with the case file's `[[sweep]]` tables.
+    pub fn with_sweeps(mut self, sweeps: Vec<SweepSpec>) -> Self {
+        self.sweeps = sweeps;
+        self
+    }
+
+    /// Element data for the spaces: consistent P_p masses and, for P2, the P1 velocity space.
+    pub fn mass_model(&self) -> MassModel {
+        self.fem.mass_model()
+    }
+}
+
+impl<X: BarExact> Case for Bar<X> {
+    fn kind(&self) -> &'static str {
+        X::KIND
+    }
+
+    fn h(&self) -> f64 {
+        self.fem.mesh.h
+    }
+
+    fn element(&self) -> Option<(&'static str, usize)> {
+        let e = self.fem.mesh.element;
+        Some((e.cells(), e.degree))
+    }
+
+    fn problem(&self, space: &dyn Space) -> Result<Problem> {
+        let start = |pick: fn((f64, f64, f64)) -> f64| {
+            self.fem
+                .interpolate(|x| [pick(self.exact.field(x[0], 0.0)), 0.0, 0.0])
+        };
+        let initial = Initial {
+            displacement: start(|(u, _, _)| u),
+            velocity: start(|(_, _, v)| v),
+            gravity: None,
+            lift: 0.0,
+        };
+        self.fem.problem(|m| space.inertia(m), &initial)
+    }
+
+    fn exact(&self) -> Option<&dyn ExactContact> {
+        Some(&self.exact)
+    }
+
+    fn field_error(&self) -> Option<Box<dyn FieldError + '_>> {
+        Some(Box::new(BarFieldError::new(&self.fem, &self.exact)))
+    }
+
+    fn stress_is_function(&self) -> bool {
+        true
+    }
+
+    fn run(&self) -> &RunSpec {
+        &self.run
+    }
+
+    fn sweeps(&self) -> &[SweepSpec] {
+        &self.sweeps
+    }
+}
+
 /// The bar (0, `length`) of modulus `young` and density `density` with `elements` segments of
 /// degree `degree`, every node free, Γ_C its end x = 0 (ν = 0: λ = 0, 2μ = E exactly).
-pub fn discretisation(
+fn discretisation(
     length: f64,
     young: f64,
     density: f64,

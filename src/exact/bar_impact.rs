@@ -56,6 +56,10 @@ impl PiecewiseLinearBar for BarImpact {
         self.young
     }
 
+    fn density(&self) -> f64 {
+        self.density
+    }
+
     fn field(&self, x: f64, t: f64) -> (f64, f64, f64) {
         let (l, c, a) = (self.length, self.wave_speed(), self.lift);
         let (u, ux, ut) = unit(x / l, c * t / l);

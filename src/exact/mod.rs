@@ -34,6 +34,8 @@ pub trait PiecewiseLinearBar: ExactContact {
     fn length(&self) -> f64;
     /// E.
     fn young(&self) -> f64;
+    /// ρ.
+    fn density(&self) -> f64;
     /// `(u, σ = E u_x, u_t)` at (x, t).
     fn field(&self, x: f64, t: f64) -> (f64, f64, f64);
     /// The kinks of `u(·, t)` in increasing order; a kink may repeat, or lie at 0 or L, when
