@@ -1,5 +1,6 @@
 //! Exact solutions the discrete runs are compared with.
 
+pub mod bar_flight;
 pub mod bar_impact;
 pub mod hertz;
 pub mod spring_mass;
