@@ -7,6 +7,7 @@
 
 pub mod bar;
 pub mod bar1d;
+pub mod bar_flight;
 pub mod body;
 pub mod spring_mass;
 pub mod sweep;
@@ -30,7 +31,7 @@ pub trait FieldError: Sync {
 
 /// A canonical case, ready to build problems.
 pub trait Case: Send + Sync {
-    /// Kind of the case (`bar1d`, `spring_mass`).
+    /// Kind of the case (`bar1d`, `bar_flight`, `spring_mass`, …).
     fn kind(&self) -> &'static str;
     /// Mesh size h (NaN for a 0D case).
     fn h(&self) -> f64;
@@ -274,6 +275,7 @@ impl Overrides {
 /// Case kinds known to [`load`].
 pub const CASES: &[&str] = &[
     "bar1d",
+    "bar_flight",
     "spring_mass",
     "block2d",
     "block3d",
@@ -292,6 +294,7 @@ struct Header {
 #[derive(Debug, Clone)]
 enum Spec {
     Bar1d(bar1d::Bar1dSpec),
+    BarFlight(bar_flight::BarFlightSpec),
     Body(body::BodySpec),
     SpringMass(spring_mass::SpringMassSpec),
     TwoBars(two_bars::TwoBarsSpec),
@@ -328,6 +331,7 @@ impl CaseFile {
             })?;
         let spec = match header.case.as_str() {
             "bar1d" => Spec::Bar1d(spec_from_str(&text, path)?),
+            "bar_flight" => Spec::BarFlight(spec_from_str(&text, path)?),
             "block2d" | "block3d" | "hertz2d" | "hertz3d" | "disc2d" => {
                 let mut spec: body::BodySpec = spec_from_str(&text, path)?;
                 // A mesh file is relative to the case file's directory.
@@ -381,6 +385,9 @@ impl CaseFile {
         }
         Ok(match &self.spec {
             Spec::Bar1d(s) => Box::new(bar1d::Bar1d::from_spec(s.clone(), overrides)?),
+            Spec::BarFlight(s) => {
+                Box::new(bar_flight::BarFlightCase::from_spec(s.clone(), overrides)?)
+            }
             Spec::Body(s) => Box::new(body::Body::from_spec(s.clone(), overrides)?),
             Spec::SpringMass(s) => Box::new(spring_mass::SpringMassCase::from_spec(
                 s.clone(),

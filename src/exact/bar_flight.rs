@@ -80,10 +80,11 @@ impl PiecewiseLinearBar for BarFlight {
     fn field(&self, x: f64, t: f64) -> (f64, f64, f64) {
         let (c, v0) = (self.wave_speed(), self.speed);
         let tau = t - self.touch();
+        // Written so that u = +0 (not −0) at x = 0 and at τ = 0.
         if x < self.front(t) {
-            (-v0 * x / c, -self.density * c * v0, 0.0)
+            (0.0 - v0 * x / c, -self.density * c * v0, 0.0)
         } else if c * tau < self.length {
-            (-v0 * tau, 0.0, -v0)
+            (v0 * (self.touch() - t), 0.0, -v0)
         } else {
             (v0 * (tau - self.duration()), 0.0, v0)
         }
@@ -181,7 +182,10 @@ mod tests {
             for t in sample_times(&bar) {
                 assert_eq!(bar.field(bar.length, t).1, 0.0, "free end at t={t}");
                 let c = bar.contact(t);
-                assert!(c.u >= 0.0 && c.sigma <= 0.0 && c.u * c.sigma == 0.0, "{c:?}");
+                assert!(
+                    c.u >= 0.0 && c.sigma <= 0.0 && c.u * c.sigma == 0.0,
+                    "{c:?}"
+                );
                 let in_contact = t > t0 && t < t0 + tc;
                 assert_eq!(c.sigma, if in_contact { stress } else { 0.0 }, "t={t}");
                 assert_eq!(c.u == 0.0, in_contact, "t={t}");
@@ -223,7 +227,10 @@ mod tests {
                 // dp/dt = −σ(0, t): the impulse ρ c v₀ (t − t₀) on the contact interval.
                 let tau = (t - bar.touch()).clamp(0.0, bar.duration());
                 let p = -rho * l * v0 + rho * bar.wave_speed() * v0 * tau;
-                assert!((momentum - p).abs() < 2.0 * rho * v0 * dx, "p={momentum} at t={t}");
+                assert!(
+                    (momentum - p).abs() < 2.0 * rho * v0 * dx,
+                    "p={momentum} at t={t}"
+                );
                 for k in 0..=10 {
                     let x = k as f64 / 10.0 * l;
                     let jump = bar.field(x + 1e-10, t).0 - bar.field(x, t).0;
