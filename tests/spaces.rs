@@ -170,3 +170,31 @@ fn singular_dynamic_with_p1_displacement_is_a_clear_error() {
         .unwrap_err();
     assert!(err.to_string().contains("degree 2"), "{err}");
 }
+
+/// Modified quadrature (notes/papers/modified_quadrature.md §3, N = 4, ρ = 1, contact at x = 0):
+/// the contact dof massless, M̃ symmetric PSD, total mass 1 exactly; P1 first and second moments
+/// 0.53125 and 0.34375 (the first element's mass at its far node), P2 first moment ½ exactly and
+/// second 0.332031 (= ⅓ − h³/12). The P2 first element puts no weight on its far node, which
+/// keeps the mass of the next element: only the contact dof is massless (rank n − 1).
+#[test]
+fn modified_quadrature_matches_the_worked_numbers() {
+    for (degree, first, second) in [(1, 0.53125, 0.34375), (2, 0.5, 0.33203125)] {
+        let bar = free_bar(4, degree);
+        let m = dense_mass(&bar.mass_model(), "modified_quadrature");
+        let x = coords(&bar);
+        let one = DVector::from_element(x.len(), 1.0);
+        assert!(m.row(0).amax() == 0.0 && m.column(0).amax() == 0.0);
+        assert_symmetric_psd(&m, "modified quadrature");
+        assert_eq!(rank(&m), m.nrows() - 1, "P{degree}");
+        let moment = |a: &DVector<f64>, b: &DVector<f64>| (a.transpose() * &m * b)[0];
+        assert!((moment(&one, &one) - 1.0).abs() < 1e-14, "P{degree} mass");
+        assert!(
+            (moment(&x, &one) - first).abs() < 1e-14,
+            "P{degree} first moment"
+        );
+        assert!(
+            (moment(&x, &x) - second).abs() < 1e-14,
+            "P{degree} second moment"
+        );
+    }
+}

@@ -66,9 +66,11 @@ pub enum Kept {
 }
 
 /// One linear functional of the element matrix: `Σ_ab f(x_a, x_b) M_ab`.
-type Moment = Box<dyn Fn(&[f64; 3], &[f64; 3]) -> f64>;
+pub(crate) type Moment = Box<dyn Fn(&[f64; 3], &[f64; 3]) -> f64>;
 
-fn moment_groups(dim: usize) -> Vec<Vec<Moment>> {
+/// The moment functionals by group: total mass, first moments, second moments (in `dim`
+/// coordinates), in the order of [`Kept`].
+pub(crate) fn moment_groups(dim: usize) -> Vec<Vec<Moment>> {
     let total: Vec<Moment> = vec![Box::new(|_, _| 1.0)];
     let first: Vec<Moment> = (0..dim)
         .map(|k| Box::new(move |a: &[f64; 3], b: &[f64; 3]| 0.5 * (a[k] + b[k])) as Moment)
@@ -83,8 +85,7 @@ fn moment_groups(dim: usize) -> Vec<Vec<Moment>> {
 }
 
 /// The redistributed element matrix and the moments it keeps. `massless[a]`: node a is a contact
-/// dof. Coordinates are taken relative to the element's first node (moments are affine-invariant
-/// as a group, and this keeps the constraint matrix well scaled).
+/// dof. Coordinates are taken relative to the element's first node ([`relative_coords`]).
 pub fn redistribute(
     m: &DMatrix<f64>,
     x: &[[f64; 3]],
@@ -92,22 +93,7 @@ pub fn redistribute(
     massless: &[bool],
 ) -> (DMatrix<f64>, Kept) {
     let n = m.nrows();
-    let x0 = x[0];
-    let scale = x
-        .iter()
-        .flat_map(|p| (0..3).map(move |k| (p[k] - x0[k]).abs()))
-        .fold(0.0f64, f64::max)
-        .max(f64::MIN_POSITIVE);
-    let xs: Vec<[f64; 3]> = x
-        .iter()
-        .map(|p| {
-            [
-                (p[0] - x0[0]) / scale,
-                (p[1] - x0[1]) / scale,
-                (p[2] - x0[2]) / scale,
-            ]
-        })
-        .collect();
+    let xs = relative_coords(x);
     let free: Vec<usize> = (0..n).filter(|&a| !massless[a]).collect();
     let vars: Vec<(usize, usize)> = free
         .iter()
@@ -152,6 +138,20 @@ pub fn redistribute(
         }
     }
     best
+}
+
+/// Node coordinates relative to the first node, divided by the largest offset (moments are
+/// affine-invariant as a group, and this keeps the constraint matrix well scaled).
+pub(crate) fn relative_coords(x: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    let x0 = x[0];
+    let scale = x
+        .iter()
+        .flat_map(|p| (0..3).map(move |k| (p[k] - x0[k]).abs()))
+        .fold(0.0f64, f64::max)
+        .max(f64::MIN_POSITIVE);
+    x.iter()
+        .map(|p| std::array::from_fn(|k| (p[k] - x0[k]) / scale))
+        .collect()
 }
 
 /// Weight of the unknown `m_ab` in a symmetric functional `Σ_ab f M_ab` (off-diagonal counted twice).

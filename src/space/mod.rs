@@ -1,12 +1,13 @@
 //! Space discretisations of the inertia (DESIGN.md §3), one file each: every space turns the
 //! same element data ([`MassModel`]) into an [`Inertia`] (the trait the time schemes consume);
 //! the stiffness is the same for all of them. A sparse mass ([`sparse_mass`]) serves standard,
-//! lumped, mass redistribution and mass elimination; the singular dynamic method carries its
-//! own saddle system ([`singular_dynamic`]).
+//! lumped, mass redistribution, mass elimination and modified quadrature; the singular dynamic
+//! method carries its own saddle system ([`singular_dynamic`]).
 
 pub mod lumped;
 pub mod mass_elimination;
 pub mod mass_redistribution;
+pub mod modified_quadrature;
 pub mod singular_dynamic;
 pub mod sparse_mass;
 pub mod standard;
@@ -31,6 +32,7 @@ pub const SPACES: &[Entry<dyn Space>] = &[
     mass_redistribution::ENTRY,
     mass_elimination::ENTRY,
     singular_dynamic::ENTRY,
+    modified_quadrature::ENTRY,
 ];
 
 /// The space whose runs are the common reference of a sweep's convergence (when swept): mass
