@@ -10,8 +10,8 @@
 //! Stable for `Δt ≤ 2/ω_max`, `ω²_max = λ_max(K_RR, M_RR)` (an upper bound of the condensed
 //! problem's, so the limit is safe), estimated before the run by a power iteration with the
 //! Rayleigh quotient ([`cfl`]); a Δt above [`CFL_SAFETY`] times that limit is an "unstable time
-//! step" error. Needs a sparse mass (standard, lumped, mass_redistribution, mass_elimination) and
-//! contact dofs that are all massive or all massless. Reports the half-step velocity and the midpoint energy like
+//! step" error. Needs a sparse mass (every space but singular_dynamic) and contact dofs that are
+//! all massive or all massless. Reports the half-step velocity and the midpoint energy like
 //! [`super::paoli_schatzman`].
 
 use super::scheme::{Integrator, Scheme, State, StepInfo};
@@ -64,8 +64,8 @@ impl Scheme for CentralDifference {
         };
         let Some(m) = problem.inertia.sparse() else {
             return Err(Error::Unsupported(
-                "central_difference needs a sparse mass matrix (standard, lumped, \
-                 mass_redistribution or mass_elimination), not singular_dynamic"
+                "central_difference needs a sparse mass matrix, which this space does not \
+                 assemble"
                     .into(),
             ));
         };
