@@ -392,7 +392,7 @@ fn report_runs_the_cases_named_only() {
         o.to_str().unwrap(),
     ]);
     assert_clear_error(&out, "--case");
-    assert_clear_error(&out, "known: bar1d, block2d");
+    assert_clear_error(&out, "known: bar1d, bar_flight, block2d");
 }
 
 /// The headline of `run`: the drift outside the impact steps when one impact step's dip would
