@@ -6,7 +6,7 @@
 //! `g = u₂(0) − u₁(0) ≥ 0` ([`crate::fem::bodies`]). Bar 1 has `mesh.elements` elements, bar 2
 //! `round(elements · L₂/L₁)`. No external force: the momentum `(M̃1)ᵀV` is an invariant.
 
-use super::bar1d::{Material, MeshSpec};
+use super::bar::{Material, MeshSpec};
 use super::{Case, FieldError, Overrides, RunSpec};
 use crate::element::quadrature::gauss_legendre_01;
 use crate::element::segment::Segment;
