@@ -11,9 +11,9 @@
 //!
 //! Eliminating v_{n+1}: `(M + Δt²/4 K) u_{n+1} = M (u_n + Δt v_n) − Δt²/4 K u_n + Δt²/2 F
 //! − Δt²/2 B_Nᵀ λ` (the multiplier's factor is Δt²/2: a midpoint force over the whole step), then
-//! `v_{n+1} = 2 (u_{n+1} − u_n)/Δt − v_n`; the persistency law is the step's LCP with offsets
-//! `o = g₀ − g_n` on 𝒜_n and `+∞` off it ([`super::step`]). Multiplying the first equation by
-//! `u_{n+1} − u_n` gives, for a constant F,
+//! `v_{n+1} = 2 (u_{n+1} − u_n)/Δt − v_n` (the step of [`super::step::Trapezoidal`]); the
+//! persistency law is the step's LCP with offsets `o = g₀ − g_n` on 𝒜_n and `+∞` off it
+//! ([`super::step`]). Multiplying the first equation by `u_{n+1} − u_n` gives, for a constant F,
 //!
 //! `E_{n+1} − E_n = λ · (g_{n+1} − g_n) = 0`,
 //!
@@ -32,10 +32,9 @@
 //! - inertial variables as for Newmark, so that the singular dynamic method runs too.
 
 use super::scheme::{Integrator, Scheme, Solvers, State, StepInfo};
-use super::step::{time_step, ContactStep, Stepper};
+use super::step::{time_step, Stepper, Trapezoidal};
 use crate::contact::Enforcement;
 use crate::error::Result;
-use crate::linalg;
 use crate::param::Entry;
 use crate::problem::Problem;
 
@@ -66,12 +65,10 @@ impl Scheme for LaursenChawla {
         solvers: Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
         let dt = time_step(problem, dt)?;
-        let system = ContactStep::new(problem, (1.0, 0.25 * dt * dt), 0.5 * dt * dt, solvers)?;
-        let s = Stepper::new(problem, dt, system)?;
+        let s = Stepper::new(problem, dt, Trapezoidal::system(problem, dt, solvers)?)?;
         let nc = problem.contact.len();
         Ok(Box::new(LaursenChawlaIntegrator {
-            y: vec![0.0; s.w.len()],
-            w_prev: vec![0.0; s.w.len()],
+            trapezoidal: Trapezoidal::new(&s),
             gap: vec![0.0; nc],
             offset: vec![0.0; nc],
             s,
@@ -81,10 +78,8 @@ impl Scheme for LaursenChawla {
 
 struct LaursenChawlaIntegrator<'p> {
     s: Stepper<'p>,
-    /// `w_n + Δt v_n`.
-    y: Vec<f64>,
-    /// `w_n`.
-    w_prev: Vec<f64>,
+    /// The trapezoidal step's predictor `w_n + Δt v_n`.
+    trapezoidal: Trapezoidal,
     /// `g_n`.
     gap: Vec<f64>,
     /// The persistency offsets `g₀ − g_n` on 𝒜_n, `+∞` off it.
@@ -109,19 +104,9 @@ impl LaursenChawlaIntegrator<'_> {
 
 impl Integrator for LaursenChawlaIntegrator<'_> {
     fn step(&mut self) -> Result<StepInfo> {
-        let dt = self.s.dt;
         self.active_set();
-        for ((y, w), v) in self.y.iter_mut().zip(&self.s.w).zip(&self.s.v) {
-            *y = w + dt * v;
-        }
-        self.w_prev.copy_from_slice(&self.s.w);
-        self.s.rhs_from_load(0.5 * dt * dt);
-        let k = &self.s.problem.k;
-        linalg::mul_add(&mut self.s.rhs, k, &self.s.u, -0.25 * dt * dt);
-        self.s
-            .problem
-            .inertia
-            .apply_add(&mut self.s.rhs, &self.y, 1.0);
+        self.trapezoidal.predict(&self.s);
+        self.trapezoidal.rhs(&mut self.s);
         let at = self.s.next();
         let info = self.s.system.solve(
             self.s.problem,
@@ -130,10 +115,7 @@ impl Integrator for LaursenChawlaIntegrator<'_> {
             &mut self.s.lambda,
             at,
         )?;
-        // v_{n+1} = 2 (w_{n+1} − w_n)/Δt − v_n.
-        for ((v, w), wp) in self.s.v.iter_mut().zip(&self.s.w).zip(&self.w_prev) {
-            *v = 2.0 * (w - wp) / dt - *v;
-        }
+        self.trapezoidal.velocity(&mut self.s);
         self.s.finish(info)
     }
 

@@ -1,8 +1,9 @@
 //! The toolkit a scheme's file is written with: the state and bookkeeping of a step
 //! ([`stepper`]), the constant step operator with its contact coupling ([`contact_step`]),
 //! solved directly ([`direct`]) or by CG ([`iterative`]), the stability limit of the explicit
-//! schemes ([`cfl`]) and the explicit step with a lumped mass and a contact force at t_n
-//! ([`explicit`]).
+//! schemes ([`cfl`]), the explicit step with a lumped mass and a contact force at t_n
+//! ([`explicit`]), and the trapezoidal step with a predictor that the midpoint-type schemes
+//! share ([`trapezoidal`]).
 //!
 //! Each step of an implicit scheme solves `A X = r − c B_Nᵀ λ` (`A = m M + k K` constant) with
 //! λ from a complementarity law on `o − B_N X` ([`ContactStep::solve`]); the offsets `o` carry
@@ -26,6 +27,8 @@ pub mod direct;
 pub mod explicit;
 pub mod iterative;
 pub mod stepper;
+pub mod trapezoidal;
 
 pub use contact_step::{cg_pays, ContactStep, LinearSolver, AUTO_CG_DOFS, LINEAR_SOLVERS};
 pub use stepper::{initial_acceleration, time_step, Stepper, ThreeLevel};
+pub use trapezoidal::Trapezoidal;
