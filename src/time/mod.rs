@@ -16,6 +16,7 @@ pub mod carpenter;
 pub mod central_difference;
 pub mod explicit_penalty;
 pub mod hht;
+pub mod kane;
 pub mod laursen_chawla;
 pub mod moreau_jean;
 pub mod newmark;
@@ -41,6 +42,7 @@ pub const SCHEMES: &[Entry<dyn Scheme>] = &[
     carpenter::ENTRY,
     taylor_flanagan::ENTRY,
     explicit_penalty::ENTRY,
+    kane::ENTRY,
 ];
 
 /// The registry entry of the scheme called `name`.
