@@ -14,6 +14,7 @@
 pub mod backward_euler;
 pub mod carpenter;
 pub mod central_difference;
+pub mod contact_stabilised_newmark;
 pub mod explicit_penalty;
 pub mod hht;
 pub mod kane;
@@ -43,6 +44,7 @@ pub const SCHEMES: &[Entry<dyn Scheme>] = &[
     taylor_flanagan::ENTRY,
     explicit_penalty::ENTRY,
     kane::ENTRY,
+    contact_stabilised_newmark::ENTRY,
 ];
 
 /// The registry entry of the scheme called `name`.
