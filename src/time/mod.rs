@@ -16,6 +16,7 @@ pub mod carpenter;
 pub mod central_difference;
 pub mod contact_stabilised_newmark;
 pub mod explicit_penalty;
+pub mod hauret_le_tallec;
 pub mod hht;
 pub mod kane;
 pub mod laursen_chawla;
@@ -45,6 +46,7 @@ pub const SCHEMES: &[Entry<dyn Scheme>] = &[
     explicit_penalty::ENTRY,
     kane::ENTRY,
     contact_stabilised_newmark::ENTRY,
+    hauret_le_tallec::ENTRY,
 ];
 
 /// The registry entry of the scheme called `name`.
