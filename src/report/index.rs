@@ -181,7 +181,7 @@ fn failures_section(d: &mut Doc, records: &[RunRecord]) {
                     .into(),
                 r.level.to_string().into(),
                 r.status.as_str().into(),
-                Rich::default().text(&r.reason).into(),
+                Rich::parse(&r.reason).into(),
             ]
         })
         .collect();
