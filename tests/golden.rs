@@ -100,12 +100,12 @@ fn summary_metrics_of_every_combination_are_unchanged() {
             count += 1;
         }
     }
-    // bar1d 5 spaces × 8 schemes and 3 spaces × 4 contact formulations, bar_flight 5 × 9,
-    // block2d 5 × 2, block3d 5 × 1, spring_mass 7 schemes, hertz2d 3 spaces, hertz3d 2 + 1,
-    // two_bars and two_bars_unequal 5 × 8 each.
+    // bar1d 6 spaces × 15 schemes and 3 spaces × 4 contact formulations, bar_flight 6 × 15,
+    // block2d 5 × 2 and 3 × 9, block3d 5 × 1, spring_mass 7 schemes, hertz2d 3 spaces, hertz3d
+    // 2 + 1, two_bars and two_bars_unequal 5 × 8 each.
     assert_eq!(
         count,
-        5 * 8 + 3 * 4 + 5 * 9 + 5 * 2 + 5 + 7 + 3 + 3 + 2 * 5 * 8,
+        6 * 15 + 3 * 4 + 6 * 15 + 5 * 2 + 3 * 9 + 5 + 7 + 3 + 3 + 2 * 5 * 8,
         "one snapshot per case × space × scheme"
     );
 }
