@@ -500,8 +500,12 @@ fn check_uniform(mesh: &Mesh) -> Result<()> {
     let el = mesh.element;
     let (first, last) = (0, el.degree);
     for (c, cell) in mesh.connectivity.iter().enumerate() {
-        let len = mesh.nodes[cell[last]][0] - mesh.nodes[cell[first]][0];
-        if (len.abs() - mesh.h).abs() > 1e-12 * mesh.h {
+        let (a, b) = (mesh.nodes[cell[first]][0], mesh.nodes[cell[last]][0]);
+        // The rounding of the coordinates themselves (eps |x| each) on top of 1e-12 h: a
+        // uniform mesh of 10⁴ elements differs from h by ~1e4 eps h at its far end.
+        let tolerance = 1e-12 * mesh.h + 4.0 * f64::EPSILON * a.abs().max(b.abs());
+        let len = b - a;
+        if (len.abs() - mesh.h).abs() > tolerance {
             return Err(Error::Mesh {
                 origin: mesh.origin.clone(),
                 message: format!(
@@ -568,6 +572,16 @@ mod tests {
     use crate::element::reference::{RefElement, Shape};
     use crate::mesh::structured::box_mesh;
     use crate::mesh::FACING;
+
+    /// A uniform interval of 10⁵ elements passes the uniformity check (its coordinates round
+    /// by up to ~1e5 eps h at the far end); a moved node does not.
+    #[test]
+    fn long_uniform_intervals_pass_and_a_moved_node_fails() {
+        let mut mesh = crate::mesh::interval::interval(1.0, 100_000, 1).unwrap();
+        assert!(check_uniform(&mesh).is_ok());
+        mesh.nodes[50_000][0] += 1e-9 * mesh.h;
+        assert!(check_uniform(&mesh).is_err());
+    }
 
     /// A body already through the plane at t = 0 is refused, naming the node; a reflected mesh
     /// (every cell negatively oriented) is accepted and gives the same stiffness.
