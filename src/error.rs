@@ -27,6 +27,14 @@ pub enum Error {
         #[source]
         source: std::io::Error,
     },
+    /// An input file (case file, mesh, a CSV table read back) that cannot be read or used: not a
+    /// regular file, too large, unreadable or malformed.
+    #[error("{role} {path}: {message}")]
+    Input {
+        role: &'static str,
+        path: PathBuf,
+        message: String,
+    },
     /// The case file is not valid TOML or does not match the case schema.
     #[error("{path}: malformed case file: {message}")]
     CaseSyntax { path: PathBuf, message: String },
@@ -70,7 +78,7 @@ pub enum Error {
         time: f64,
         reason: String,
     },
-    /// Writing CSV output failed.
+    /// Writing CSV output failed (reading one is an [`Error::Input`]).
     #[error("csv output {path}: {message}")]
     Csv { path: PathBuf, message: String },
     /// A mesh (file or generator) is unusable: inverted cell, missing group, unknown element…

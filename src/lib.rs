@@ -12,6 +12,7 @@ pub mod element;
 pub mod error;
 pub mod exact;
 pub mod fem;
+pub mod input;
 pub mod linalg;
 pub mod mesh;
 pub mod methods;

@@ -316,7 +316,7 @@ pub struct CaseFile {
 impl CaseFile {
     /// Reads and parses the case file at `path`.
     pub fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = crate::input::CASE_FILE.read_to_string(path)?;
         Self::parse(text, path)
     }
 

@@ -28,7 +28,7 @@ pub fn read(path: &Path, dim: usize, group: &str) -> Result<Mesh> {
         origin: origin.clone(),
         message: m,
     };
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = crate::input::MESH_FILE.read(path)?;
     check_version(&bytes).map_err(&err)?;
     let msh = mshio::parse_msh_bytes(bytes.as_slice())
         .map_err(|e| err(format!("not a readable MSH 4.1 file: {e}")))?;

@@ -15,12 +15,18 @@
 use super::jobs::{run_job, runs_bar, Job, RunRecord};
 use super::records::{read_rows, record_fields, record_header};
 use crate::error::{Error, Result};
+use crate::input::{Input, TABLE};
 use crate::output::{csv::write_rows, fmt_float};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+
+/// The journal read back (`--resume`, and the records of a study).
+const JOURNAL: Input = TABLE.named("journal");
+/// A probe series read back.
+const PROBE: Input = TABLE.named("probe series");
 
 /// The column of the case file's content hash.
 const CASE_HASH: &str = "case_hash";
@@ -52,8 +58,8 @@ impl Journal {
         let path = dir.join(name);
         std::fs::create_dir_all(dir.join(PROBES)).map_err(|e| Error::io(dir, e))?;
         let done = if resume && path.exists() {
-            let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-            let complete = &text[..text.rfind('\n').map_or(0, |k| k + 1)];
+            let text = JOURNAL.read(&path)?;
+            let complete = &text[..text.iter().rposition(|&b| b == b'\n').map_or(0, |k| k + 1)];
             if complete.len() != text.len() {
                 std::fs::write(&path, complete).map_err(|e| Error::io(&path, e))?;
             }
@@ -108,12 +114,8 @@ impl Journal {
 }
 
 /// The records of journal text, each with its case hash.
-fn read_journal(text: &str, path: &Path) -> Result<Vec<(RunRecord, String)>> {
-    let rows = read_rows(
-        csv::Reader::from_reader(text.as_bytes()),
-        path,
-        &[CASE_HASH],
-    )?;
+fn read_journal(text: &[u8], path: &Path) -> Result<Vec<(RunRecord, String)>> {
+    let rows = read_rows(text, path, JOURNAL, &[CASE_HASH])?;
     Ok(rows
         .into_iter()
         .map(|(r, mut x)| (r, x.remove(0)))
@@ -132,12 +134,9 @@ fn read_probe(journal: &Path, key: &str) -> Result<Vec<(f64, f64, f64)>> {
     if !path.exists() {
         return Ok(Vec::new());
     }
-    let err = |m: String| Error::Csv {
-        path: path.clone(),
-        message: m,
-    };
-    let mut reader = csv::Reader::from_path(&path).map_err(|e| err(e.to_string()))?;
-    reader
+    let err = |m: String| PROBE.error(&path, m);
+    let text = PROBE.read(&path)?;
+    csv::Reader::from_reader(text.as_slice())
         .deserialize::<(f64, f64, f64)>()
         .map(|row| row.map_err(|e| err(e.to_string())))
         .collect()
@@ -190,7 +189,7 @@ pub fn run_study(
         journal.append(&j.file.hash, &r)
     })?;
     bar.finish_and_clear();
-    let text = std::fs::read_to_string(&journal.path).map_err(|e| Error::io(&journal.path, e))?;
+    let text = JOURNAL.read(&journal.path)?;
     let all: HashMap<(String, String), RunRecord> = read_journal(&text, &journal.path)?
         .into_iter()
         .map(|(r, hash)| ((r.key.clone(), hash), r))
@@ -200,9 +199,8 @@ pub fn run_study(
             let mut r = all
                 .get(&(j.key.clone(), j.file.hash.clone()))
                 .cloned()
-                .ok_or_else(|| Error::Csv {
-                    path: journal.path.clone(),
-                    message: format!("no record for run {}", j.key),
+                .ok_or_else(|| {
+                    JOURNAL.error(&journal.path, format!("no record for run {}", j.key))
                 })?;
             r.probe = read_probe(&journal.path, &j.key)?;
             Ok(r)

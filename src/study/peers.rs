@@ -88,11 +88,10 @@ pub struct PeerRow {
 
 /// Reads a peer CSV.
 pub fn read_peer(path: &Path) -> Result<Vec<PeerRow>> {
-    let err = |m: String| Error::Csv {
-        path: path.to_path_buf(),
-        message: m,
-    };
-    let mut reader = csv::Reader::from_path(path).map_err(|e| err(e.to_string()))?;
+    let kind = crate::input::TABLE.named("peer trajectory");
+    let err = |m: String| kind.error(path, m);
+    let text = kind.read(path)?;
+    let mut reader = csv::Reader::from_reader(text.as_slice());
     let rows = reader
         .deserialize()
         .collect::<std::result::Result<Vec<PeerRow>, _>>()

@@ -5,7 +5,8 @@
 use super::jobs::{RunRecord, Status};
 use super::metrics::{Metrics, METRIC_COLUMNS};
 use super::run::{fmt_mib, summary_columns, summary_record, Summary, TIMING_COLUMNS};
-use crate::error::{Error, Result};
+use crate::error::Result;
+use crate::input::{Input, TABLE};
 use crate::output::csv::write_rows;
 use std::path::Path;
 
@@ -99,29 +100,28 @@ pub fn write_timings(path: &Path, records: &[RunRecord]) -> Result<()> {
     )
 }
 
+/// A records file read back (`dyncontact merge`).
+pub const RECORDS_FILE: Input = TABLE.named("records file");
+
 /// Reads records written by [`write_records`] (with or without the timing columns).
 pub fn read_records(path: &Path) -> Result<Vec<RunRecord>> {
-    let reader = csv::Reader::from_path(path).map_err(|e| Error::Csv {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
-    Ok(read_rows(reader, path, &[])?
+    let text = RECORDS_FILE.read(path)?;
+    Ok(read_rows(&text, path, RECORDS_FILE, &[])?
         .into_iter()
         .map(|r| r.0)
         .collect())
 }
 
-/// Records from a reader, each with the values of the `extra` columns (empty where the file has
-/// none); `path` names the file in messages.
-pub fn read_rows<R: std::io::Read>(
-    mut reader: csv::Reader<R>,
+/// Records from CSV text, each with the values of the `extra` columns (empty where the file has
+/// none); `path` and `kind` name the file in messages.
+pub fn read_rows(
+    text: &[u8],
     path: &Path,
+    kind: Input,
     extra: &[&str],
 ) -> Result<Vec<(RunRecord, Vec<String>)>> {
-    let err = |m: String| Error::Csv {
-        path: path.to_path_buf(),
-        message: m,
-    };
+    let mut reader = csv::Reader::from_reader(text);
+    let err = |m: String| kind.error(path, m);
     let header = reader.headers().map_err(|e| err(e.to_string()))?.clone();
     let col = |name: &str| header.iter().position(|h| h == name);
     for needed in record_header(false) {
