@@ -2,6 +2,7 @@
 //! miss t_end, interrupted output. Each test runs the binary and asserts a clear error (exit ≠ 0,
 //! no panic, the field or file named) within a time limit, or the documented outcome.
 
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -114,4 +115,96 @@ fn records_that_cannot_be_read_back_are_called_input_files() {
     ]);
     assert_clear_error(&out, &["records file", "missing column"]);
     assert!(!stderr(&out).contains("csv output"), "{}", stderr(&out));
+}
+
+/// `cases/<file>` with each `(from, to)` replaced, written into `dir/<file>`.
+fn edited(dir: &Path, file: &str, edits: &[(&str, &str)]) -> String {
+    let mut text = std::fs::read_to_string(format!("cases/{file}")).unwrap();
+    for (from, to) in edits {
+        assert!(text.contains(from), "test setup: `{from}` not in {file}");
+        text = text.replacen(from, to, 1);
+    }
+    let path = dir.join(file);
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+/// The step named by "diverged at step N".
+fn diverged_step(e: &str) -> usize {
+    let rest = e
+        .split("diverged at step ")
+        .nth(1)
+        .expect("a diverged error");
+    rest.split_whitespace().next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn the_first_non_finite_quantity_stops_the_run_naming_step_time_and_quantity() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    // An infinite initial energy (½ ρ v² overflows): diverged at step 0, nothing plotted.
+    let block = edited(
+        dir.path(),
+        "block2d.toml",
+        &[("velocity = -0.1", "velocity = -1e200")],
+    );
+    let out = dyncontact(&["run", &block, "--t-end", "0.01", "--out", o]);
+    assert_clear_error(&out, &["diverged at step 0 (t = 0", "energy is inf"]);
+    // The energy overflows at a later step while U and V stay finite: the sampling thread's
+    // check names it; no CSV full of inf, no plot.
+    let bar = edited(
+        dir.path(),
+        "bar1d.toml",
+        &[("lift = 0.5", "lift = 1.3e154")],
+    );
+    let out = dyncontact(&["run", &bar, "--space", "standard", "--out", o]);
+    assert_clear_error(
+        &out,
+        &["solution diverged at step", "(t = ", "energy is inf"],
+    );
+    assert!(diverged_step(&stderr(&out)) > 0, "{}", stderr(&out));
+    for f in ["timeseries.csv", "summary.csv", "energy.png", "contact.png"] {
+        assert!(!dir.path().join("o").join(f).exists(), "{f} written");
+    }
+}
+
+#[test]
+fn a_sweep_records_a_non_finite_run_as_diverged_and_the_report_shows_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = "[[sweep]]\nname = \"hostile\"\nspaces = [\"standard\"]\n\
+                 schemes = [{ scheme = \"newmark\", beta = 0.5, gamma = 0.5 }]\n\
+                 elements = 40\ndt = 0.0125\nlevels = 1\n";
+    let text = std::fs::read_to_string("cases/bar1d.toml").unwrap();
+    let head = &text[..text.find("[[sweep]]").unwrap()];
+    let path = dir.path().join("bar.toml");
+    std::fs::write(
+        &path,
+        format!("{}{sweep}", head.replace("lift = 0.5", "lift = 1.3e154")),
+    )
+    .unwrap();
+    let o = dir.path().join("o");
+    let out = dyncontact(&[
+        "sweep",
+        path.to_str().unwrap(),
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let records = std::fs::read_to_string(o.join("records.csv")).unwrap();
+    let row = records.lines().nth(1).unwrap();
+    assert!(
+        row.contains(",diverged,") && row.contains("energy is inf"),
+        "{row}"
+    );
+    let merged = dir.path().join("m");
+    let out = dyncontact(&[
+        "merge",
+        o.join("records.csv").to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let index = std::fs::read_to_string(merged.join("index.md")).unwrap();
+    assert!(index.contains("diverged"), "{index}");
 }

@@ -121,6 +121,11 @@ pub struct FieldOutput {
 /// The time loop only steps and copies the state: the probe row (energy included) and the field
 /// errors of each sample are computed on a second thread from recycled copies, so a run costs
 /// what its solver costs on two cores.
+///
+/// The first non-finite quantity stops the run with [`Error::Diverged`] naming the step, the
+/// time and the quantity: U, V and λ are checked by the time loop after every step, the sampled
+/// quantities (energy, gap, probe values, approach, field errors) by the sampling thread, which
+/// sees the samples in order, so the earlier of the two failures is the one reported.
 pub fn run_with_progress(case: &dyn Case, progress: bool) -> Result<RunResult> {
     run_with_output(case, progress, None)
 }
@@ -194,13 +199,25 @@ pub fn run_with_output(
                     )?;
                 }
                 let row = probe_row(problem, &mut probe, &s, exact);
+                if let Some((what, value)) = row.non_finite() {
+                    return Err(diverged(index, s.t, what, value));
+                }
                 if probe.centre.is_some() && row.force_contact > f_peak {
                     f_peak = row.force_contact;
                     peak.fill(&s);
                 }
                 rows.push(row);
                 if let Some(f) = field {
-                    errors.push(f.errors(s.u, s.t));
+                    let e = f.errors(s.u, s.t);
+                    // The H¹ error is NaN where it is not computed.
+                    let h1 = if e.1.is_nan() { 0.0 } else { e.1 };
+                    if let Some((what, value)) = [("L² field error", e.0), ("H¹ field error", h1)]
+                        .into_iter()
+                        .find(|(_, v)| !v.is_finite())
+                    {
+                        return Err(diverged(index, s.t, what, value));
+                    }
+                    errors.push(e);
                 }
                 // The time loop may have finished: a snapshot nobody reuses is dropped.
                 let _ = recycle.send(snap);
@@ -214,9 +231,16 @@ pub fn run_with_output(
             tx.send(snap).is_ok()
         };
         let mut iterations = 0;
+        let mut stepped = Ok(());
         if send(integrator.as_ref()) {
             for n in 0..steps {
-                iterations += integrator.step()?.contact_iterations;
+                match integrator.step() {
+                    Ok(info) => iterations += info.contact_iterations,
+                    Err(e) => {
+                        stepped = Err(e);
+                        break;
+                    }
+                }
                 if !send(integrator.as_ref()) {
                     break;
                 }
@@ -224,9 +248,11 @@ pub fn run_with_output(
             }
         }
         drop(tx);
-        let (rows, errors, peak) = sampler
+        // The sampler's error is at an earlier step than the loop's, or the same.
+        let sampled = sampler
             .join()
-            .map_err(|_| Error::Internal("the sampling thread panicked".into()))??;
+            .map_err(|_| Error::Internal("the sampling thread panicked".into()))?;
+        let (rows, errors, peak) = sampled.and_then(|r| stepped.map(|()| r))?;
         if rows.len() != steps + 1 {
             return Err(Error::Internal("the sampling thread stopped".into()));
         }
@@ -269,6 +295,15 @@ pub fn run_with_output(
             metrics,
         },
     })
+}
+
+/// The error of a sample whose quantity `what` is `value`, not finite.
+fn diverged(step: usize, time: f64, what: &str, value: f64) -> Error {
+    Error::Diverged {
+        step,
+        time,
+        reason: format!("{what} is {value}"),
+    }
 }
 
 /// Snapshots in flight between the time loop and the sampling thread.

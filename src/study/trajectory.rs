@@ -39,6 +39,26 @@ pub struct Row {
     pub exact: Option<(f64, f64, f64)>,
 }
 
+impl Row {
+    /// The first quantity the run computed for this sample (the exact columns aside) that is
+    /// not finite, as `(column, value)`.
+    pub fn non_finite(&self) -> Option<(&'static str, f64)> {
+        let computed = TIMESERIES_COLUMNS.iter().zip([
+            self.t,
+            self.u_contact,
+            self.v_contact,
+            self.sigma_contact,
+            self.energy,
+            self.gap,
+            self.force_contact,
+        ]);
+        computed
+            .map(|(c, v)| (*c, v))
+            .chain(self.approach.map(|a| ("approach", a)))
+            .find(|(_, v)| !v.is_finite())
+    }
+}
+
 /// Columns of `timeseries.csv` (then the `_exact` columns when present).
 pub const TIMESERIES_COLUMNS: &[&str] = &[
     "t",
