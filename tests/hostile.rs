@@ -208,3 +208,51 @@ fn a_sweep_records_a_non_finite_run_as_diverged_and_the_report_shows_it() {
     let index = std::fs::read_to_string(merged.join("index.md")).unwrap();
     assert!(index.contains("diverged"), "{index}");
 }
+
+/// A Gmsh MSH 4.1 file of the unit square split into four 3-node triangles around a centre node
+/// at `centre`, the bottom edge in the physical group `contact`.
+fn fan_msh(centre: [f64; 2]) -> String {
+    let [cx, cy] = centre;
+    format!(
+        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n\
+         $PhysicalNames\n2\n1 1 \"contact\"\n2 2 \"body\"\n$EndPhysicalNames\n\
+         $Entities\n0 1 1 0\n1 0 0 0 1 0 0 1 1 0\n1 0 0 0 1 1 0 1 2 0\n$EndEntities\n\
+         $Nodes\n1 5 1 5\n2 1 0 5\n1\n2\n3\n4\n5\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n{cx} {cy} 0\n$EndNodes\n\
+         $Elements\n2 5 1 5\n1 1 1 1\n1 1 2\n2 1 2 4\n2 1 2 5\n3 2 3 5\n4 3 4 5\n5 4 1 5\n\
+         $EndElements\n"
+    )
+}
+
+#[test]
+fn a_tangled_gmsh_mesh_is_refused_naming_the_cells() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let mesh = dir.path().join("fan.msh");
+    let args = |m: &Path| {
+        let m = m.to_str().unwrap().to_string();
+        [
+            "run",
+            "cases/block2d.toml",
+            "--mesh",
+            &m,
+            "--t-end",
+            "0.01",
+            "--out",
+            o,
+        ]
+        .map(String::from)
+    };
+    let run = |a: [String; 8]| dyncontact(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    std::fs::write(&mesh, fan_msh([0.5, 0.5])).unwrap();
+    let out = run(args(&mesh));
+    assert!(out.status.success(), "{}", stderr(&out));
+    // The centre node moved out through the right side: every triangle alone is valid, but
+    // one is flipped over its neighbours and the cells cover 1.5 times the square.
+    std::fs::write(&mesh, fan_msh([1.5, 0.25])).unwrap();
+    let out = run(args(&mesh));
+    assert_clear_error(
+        &out,
+        &["fan.msh", "cells", "same side of their common face"],
+    );
+}

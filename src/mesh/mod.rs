@@ -74,6 +74,45 @@ fn norm(a: [f64; 3]) -> f64 {
     a.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|k| a[k] * b[k]).sum()
+}
+
+/// The right-hand normal of a face given as a vertex list `x` (not normalised): `e_x` at an end
+/// point of a 1D body, `(t_y, −t_x)` of the edge `t = x₁ − x₀` in 2D, `(x₁ − x₀) × (x₂ − x₀)` of
+/// a triangle, and the cross product of the diagonals `(x₂ − x₀) × (x₃ − x₁)` of a quadrilateral
+/// in cyclic order; its length is the edge's length, or twice the face's area.
+fn list_normal(dim: usize, x: &[[f64; 3]]) -> [f64; 3] {
+    match (dim, x.len()) {
+        (1, _) => [1.0, 0.0, 0.0],
+        (2, _) => {
+            let e = sub(x[1], x[0]);
+            [e[1], -e[0], 0.0]
+        }
+        (_, 3) => cross(sub(x[1], x[0]), sub(x[2], x[0])),
+        _ => cross(sub(x[2], x[0]), sub(x[3], x[1])),
+    }
+}
+
+/// The orientation of a face's vertex list against its canonical one (±1): an edge `(a, b)` is
+/// positive when `a < b`; a triangle or a quadrilateral in cyclic order when, started at its
+/// smallest vertex, the next vertex is smaller than the previous one. Two lists of the same face
+/// have the same sign iff they give the same right-hand normal.
+fn list_orientation(v: &[usize]) -> f64 {
+    let n = v.len();
+    let k = (0..n).min_by_key(|&i| v[i]).unwrap_or(0);
+    let positive = if n == 2 {
+        k == 0
+    } else {
+        v[(k + 1) % n] < v[(k + n - 1) % n]
+    };
+    if positive {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
 fn centroid(x: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
     let (mut c, mut n) = ([0.0; 3], 0.0);
     for p in x {
@@ -115,7 +154,7 @@ impl Mesh {
     /// Checks node indices, finite coordinates and the Jacobian of every cell: `det J` must keep
     /// one sign over the cell's quadrature points and vertices (any orientation is accepted) and
     /// `|det J|` must exceed 1e-10 of the cell's largest value times the mesh's scale (no
-    /// degenerate cell).
+    /// degenerate cell); then that no cell folds over its neighbours ([`Mesh::check_neighbours`]).
     pub fn check(&self) -> Result<()> {
         let err = |m: String| Error::Mesh {
             origin: self.origin.clone(),
@@ -140,6 +179,7 @@ impl Mesh {
                 .iter()
                 .map(|&a| (self.element.node(a), 0.0)),
         );
+        let mut orientation = Vec::with_capacity(self.connectivity.len());
         for (c, cell) in self.connectivity.iter().enumerate() {
             if cell.len() != n || cell.iter().any(|&i| i >= self.nodes.len()) {
                 return Err(err(format!(
@@ -165,6 +205,83 @@ impl Mesh {
                 return Err(err(format!(
                     "cell {c} (nodes {cell:?}) is inverted or degenerate: det J ranges over [{lo:.3e}, {hi:.3e}]"
                 )));
+            }
+            orientation.push(hi.signum());
+        }
+        self.check_neighbours(&orientation)
+    }
+
+    /// Checks that no cell folds over its neighbours: every face bounds at most two cells, and
+    /// two cells sharing a face lie on opposite sides of it.
+    ///
+    /// With `σ_K = sign det J_K` (`orientation`, one sign per cell by [`Mesh::check`]), the
+    /// outward normal of cell K on its face f is `σ_K s_f N(list)`: N the right-hand normal of the
+    /// face's vertex list in the cell's order, `s_f = ±1` whether N points out of the reference
+    /// cell. Written against the face's canonical orientation, the outward normals of the two
+    /// cells must have opposite signs. The test is combinatorial: exact on curved (P2/Q2) faces,
+    /// one sort of the cells' faces, O(cells log cells) (hertz3d's n = 24 sphere, 55 296
+    /// cells: 33–62 ms, against 0.8–1.3 s for the Jacobians above, on a loaded machine).
+    ///
+    /// It is also the divergence theorem's check: `Σ_K |K| = (1/d) Σ_K ∮_{∂K} x·n_K`, and the
+    /// contributions of an interior face cancel exactly when its two cells induce opposite
+    /// normals, so the measured volume equals the volume enclosed by the boundary faces iff
+    /// this test passes. Neither sees a mesh that overlaps itself without folding (two sheets
+    /// stacked, a strip wound twice): that needs a geometric search.
+    fn check_neighbours(&self, orientation: &[f64]) -> Result<()> {
+        let faces = self.element.faces();
+        let sides: Vec<f64> = faces
+            .iter()
+            .map(|f| {
+                let x: Vec<[f64; 3]> = f.iter().map(|&a| self.element.node(a)).collect();
+                let out = sub(centroid(x.iter().copied()), self.element.centre());
+                dot(list_normal(self.dim(), &x), out).signum()
+            })
+            .collect();
+        // (sorted vertices of the face (padded), cell, the cell's outward sign), sorted so that
+        // the entries of one face are adjacent.
+        let mut entries: Vec<([usize; 4], usize, f64)> =
+            Vec::with_capacity(self.connectivity.len() * faces.len());
+        for (c, cell) in self.connectivity.iter().enumerate() {
+            for (local, side) in faces.iter().zip(&sides) {
+                let mut list = [usize::MAX; 4];
+                for (v, &a) in list.iter_mut().zip(local) {
+                    *v = cell[a];
+                }
+                let out = orientation[c] * side * list_orientation(&list[..local.len()]);
+                list.sort_unstable();
+                entries.push((list, c, out));
+            }
+        }
+        entries.sort_unstable_by_key(|e| (e.0, e.1));
+        for face in entries.chunk_by(|a, b| a.0 == b.0) {
+            let nodes: Vec<usize> = face[0]
+                .0
+                .iter()
+                .copied()
+                .filter(|&v| v != usize::MAX)
+                .collect();
+            let err = |m: String| Error::Mesh {
+                origin: self.origin.clone(),
+                message: m,
+            };
+            match face {
+                [_] => {}
+                [a, b] if a.2 != b.2 => {}
+                [a, b] => {
+                    return Err(err(format!(
+                        "cells {} and {} lie on the same side of their common face (nodes \
+                         {nodes:?}): the mesh folds over itself there (a cell inverted against \
+                         its neighbour, or overlapping it)",
+                        a.1, b.1
+                    )))
+                }
+                _ => {
+                    let cells: Vec<usize> = face.iter().map(|e| e.1).collect();
+                    return Err(err(format!(
+                        "the face with nodes {nodes:?} bounds cells {cells:?}: cells overlap (a \
+                         face bounds at most two)"
+                    )));
+                }
             }
         }
         Ok(())
@@ -210,29 +327,16 @@ impl Mesh {
         (cell, local): (usize, Vec<usize>),
     ) -> Face {
         let x: Vec<[f64; 3]> = vertices.iter().map(|&i| self.nodes[i]).collect();
-        let (measure, mut normal) = match (self.dim(), x.len()) {
-            // An end point of a 1D body of unit cross-section.
-            (1, _) => (1.0, [1.0, 0.0, 0.0]),
-            (2, _) => {
-                let e = sub(x[1], x[0]);
-                (norm(e), [e[1], -e[0], 0.0])
-            }
-            (_, 3) => {
-                let n = cross(sub(x[1], x[0]), sub(x[2], x[0]));
-                (0.5 * norm(n), n)
-            }
-            _ => {
-                let n = cross(sub(x[2], x[0]), sub(x[3], x[1]));
-                (0.5 * norm(n), n)
-            }
-        };
+        let mut normal = list_normal(self.dim(), &x);
         let len = norm(normal);
-        let out = sub(centroid(x.iter().copied()), inside);
-        let sign = if (0..3).map(|k| normal[k] * out[k]).sum::<f64>() < 0.0 {
-            -1.0
-        } else {
-            1.0
+        let measure = match self.dim() {
+            // An end point of a 1D body of unit cross-section.
+            1 => 1.0,
+            2 => len,
+            _ => 0.5 * len,
         };
+        let out = sub(centroid(x.iter().copied()), inside);
+        let sign = if dot(normal, out) < 0.0 { -1.0 } else { 1.0 };
         for v in &mut normal {
             *v *= sign / len;
         }
@@ -316,5 +420,100 @@ impl Mesh {
                     .sum::<f64>()
             })
             .sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::element::reference::Shape;
+
+    /// The unit square split into four triangles around its centre node 4, Γ_C tagged nowhere.
+    fn fan(centre: [f64; 3]) -> Mesh {
+        Mesh {
+            origin: "fan".into(),
+            element: RefElement {
+                shape: Shape::Simplex,
+                dim: 2,
+                degree: 1,
+            },
+            nodes: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+                centre,
+            ],
+            connectivity: vec![vec![0, 1, 4], vec![1, 2, 4], vec![2, 3, 4], vec![3, 0, 4]],
+            h: 1.0,
+            contact_faces: None,
+        }
+    }
+
+    #[test]
+    fn a_fan_whose_centre_leaves_the_square_is_refused_though_every_cell_is_valid() {
+        let m = fan([0.5, 0.5, 0.0]);
+        m.check().unwrap();
+        assert!((m.volume() - 1.0).abs() < 1e-15);
+        // Moved out through the right side: cell 1 flips and every cell alone is still valid;
+        // the cells cover 1.5 times the square.
+        let m = fan([1.5, 0.25, 0.0]);
+        assert!((m.volume() - 1.5).abs() < 1e-12, "{}", m.volume());
+        let e = m.check().unwrap_err().to_string();
+        assert!(e.contains("fan") && e.contains("same side"), "{e}");
+        assert!(
+            e.contains("cells 0 and 1") || e.contains("cells 1 and 2"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn every_family_folded_over_a_face_is_refused_and_any_local_numbering_is_accepted() {
+        for e in RefElement::every() {
+            let mut m = structured::box_mesh(e, [2, 1, 1], [2.0, 1.0, 1.0]).unwrap();
+            // Number every other cell through a reflection R of the reference cell (ξ₀ → 1 − ξ₀,
+            // or ξ₀ ↔ ξ₁ for a simplex), which reverses its orientation: the same valid mesh.
+            let reflect = |x: [f64; 3]| match e.shape {
+                Shape::Tensor => [1.0 - x[0], x[1], x[2]],
+                Shape::Simplex => [x[1], x[0], x[2]],
+            };
+            let perm: Vec<usize> = (0..e.n_nodes())
+                .map(|a| {
+                    let r = reflect(e.node(a));
+                    (0..e.n_nodes()).find(|&b| e.node(b) == r).unwrap()
+                })
+                .collect();
+            for cell in m.connectivity.iter_mut().step_by(2) {
+                *cell = perm.iter().map(|&p| cell[p]).collect();
+            }
+            m.check()
+                .unwrap_or_else(|err| panic!("{e:?} renumbered: {err}"));
+            let mut m = structured::box_mesh(e, [2, 1, 1], [2.0, 1.0, 1.0]).unwrap();
+            m.check().unwrap();
+            // Fold the right half back over the left: x → 2 − x for x > 1.
+            for x in &mut m.nodes {
+                if x[0] > 1.0 {
+                    x[0] = 2.0 - x[0];
+                }
+            }
+            let err = m.check().unwrap_err().to_string();
+            assert!(
+                err.contains("same side of their common face"),
+                "{e:?}: {err}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_face_of_three_cells_is_refused() {
+        // A fifth triangle on the interior edge 1–4 (a flap through cell 1).
+        let mut m = fan([0.5, 0.5, 0.0]);
+        m.nodes.push([0.9, 0.3, 0.0]);
+        m.connectivity.push(vec![1, 5, 4]);
+        let e = m.check().unwrap_err().to_string();
+        assert!(
+            e.contains("[1, 4] bounds cells [0, 1, 4]") && e.contains("at most two"),
+            "{e}"
+        );
     }
 }
