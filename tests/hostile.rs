@@ -256,3 +256,44 @@ fn a_tangled_gmsh_mesh_is_refused_naming_the_cells() {
         &["fan.msh", "cells", "same side of their common face"],
     );
 }
+
+#[test]
+fn a_final_time_off_the_time_grid_is_refused_naming_both_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let out = dyncontact(&[
+        "run",
+        "cases/spring_mass.toml",
+        "--dt",
+        "0.4",
+        "--t-end",
+        "1",
+        "--out",
+        o,
+    ]);
+    assert_clear_error(
+        &out,
+        &[
+            "run.t_end`: 1.0",
+            "run.dt = 0.4",
+            "t_end/dt = 2.5",
+            "0.8 or 1.2",
+        ],
+    );
+    // On the grid, the last sample is t_end itself.
+    let out = dyncontact(&[
+        "run",
+        "cases/spring_mass.toml",
+        "--dt",
+        "0.25",
+        "--t-end",
+        "1",
+        "--out",
+        o,
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let series = std::fs::read_to_string(dir.path().join("o/timeseries.csv")).unwrap();
+    let last = series.lines().last().unwrap();
+    assert!(last.starts_with("1.000000000000e0,"), "{last}");
+}

@@ -154,7 +154,8 @@ impl RunSpec {
         self
     }
 
-    /// Checks dt, t_end, the names and the parameters.
+    /// Checks dt, t_end (a whole number of steps, see [`STEPS_TOLERANCE`]), the names and the
+    /// parameters.
     pub fn validate(&self) -> Result<()> {
         positive("run.dt", self.dt)?;
         positive("run.t_end", self.t_end)?;
@@ -163,6 +164,29 @@ impl RunSpec {
                 "run.dt",
                 self.dt,
                 "must not exceed run.t_end",
+            ));
+        }
+        let ratio = self.t_end / self.dt;
+        if (ratio - ratio.round()).abs() > STEPS_TOLERANCE * ratio {
+            // N·dt to 10 significant digits (3 × 0.4 prints as 1.2).
+            let at = |n: f64| {
+                format!(
+                    "{}",
+                    format!("{:.9e}", n * self.dt)
+                        .parse::<f64>()
+                        .unwrap_or(n * self.dt)
+                )
+            };
+            return Err(Error::invalid(
+                "run.t_end",
+                self.t_end,
+                &format!(
+                    "must be a whole number of steps of run.dt = {}: t_end/dt = {ratio}, so the \
+                     run would end at {} or {}, not at t_end",
+                    self.dt,
+                    at(ratio.floor()),
+                    at(ratio.ceil())
+                ),
             ));
         }
         self.options.params.validate("run")?;
@@ -222,11 +246,17 @@ impl RunSpec {
         Ok(out)
     }
 
-    /// Number of steps `round(t_end / dt)` (≥ 1).
+    /// Number of steps `t_end / dt`, a whole number by [`RunSpec::validate`] (≥ 1).
     pub fn steps(&self) -> usize {
         ((self.t_end / self.dt).round() as usize).max(1)
     }
 }
+
+/// Relative tolerance on `t_end / dt` being a whole number N: the run takes N steps of dt and
+/// ends at N·dt = t_end to that tolerance. A shortened last step would need another step matrix
+/// (implicit schemes factor `m M + k K` once for one dt) and its own starting values for the
+/// three-level schemes, so a t_end off the grid is refused instead.
+pub const STEPS_TOLERANCE: f64 = 1e-9;
 
 /// Overrides of a case file from the command line.
 #[derive(Debug, Clone, Default)]

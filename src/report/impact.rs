@@ -38,7 +38,7 @@ pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Fi
         let case = file.build(&o)?;
         if let Some(sweep) = case.sweeps().first() {
             let level = sweep.refinements(true)?[0];
-            (o.elements, o.dt) = (level.elements, Some(level.dt));
+            (o.elements, o.dt, o.t_end) = (level.elements, Some(level.dt), sweep.t_end);
         }
     }
     let case = file.build(&o)?;
