@@ -297,3 +297,31 @@ fn a_final_time_off_the_time_grid_is_refused_naming_both_values() {
     let last = series.lines().last().unwrap();
     assert!(last.starts_with("1.000000000000e0,"), "{last}");
 }
+
+/// A run killed while writing its outputs (the file-size limit `ulimit -f` sends SIGXFSZ in
+/// the middle of timeseries.csv) leaves the previous run's files complete under their names.
+#[cfg(unix)]
+#[test]
+fn a_run_killed_while_writing_leaves_the_previous_outputs_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let os = o.to_str().unwrap();
+    let first = dyncontact(&["run", "cases/spring_mass.toml", "--t-end", "1", "--out", os]);
+    assert!(first.status.success(), "{}", stderr(&first));
+    let read = |f: &str| std::fs::read(o.join(f)).unwrap();
+    let before: Vec<Vec<u8>> = ["timeseries.csv", "summary.csv", "energy.png", "energy.svg"]
+        .map(read)
+        .into();
+    // 10⁵ steps: a timeseries.csv of about 10 MB, killed at 32–64 KiB.
+    let killed = Command::new("sh")
+        .args(["-c", "ulimit -f 64 && exec \"$0\" \"$@\""])
+        .arg(env!("CARGO_BIN_EXE_dyncontact"))
+        .args(["run", "cases/spring_mass.toml", "--dt", "1e-4", "--out", os])
+        .output()
+        .unwrap();
+    assert!(!killed.status.success(), "the limit did not stop the run");
+    let after: Vec<Vec<u8>> = ["timeseries.csv", "summary.csv", "energy.png", "energy.svg"]
+        .map(read)
+        .into();
+    assert!(before == after, "an output was changed by the killed run");
+}

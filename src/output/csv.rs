@@ -3,14 +3,7 @@
 use crate::error::{Error, Result};
 use std::path::Path;
 
-fn writer(path: &Path) -> Result<csv::Writer<std::fs::File>> {
-    csv::Writer::from_path(path).map_err(|e| Error::Csv {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })
-}
-
-/// Writes a CSV file with `header` and string rows.
+/// Writes a CSV file with `header` and string rows (through [`super::atomic::write_with`]).
 pub fn write_rows<I, R>(path: &Path, header: &[&str], rows: I) -> Result<()>
 where
     I: IntoIterator<Item = R>,
@@ -20,10 +13,12 @@ where
         path: path.to_path_buf(),
         message: e.to_string(),
     };
-    let mut w = writer(path)?;
-    w.write_record(header).map_err(err)?;
-    for r in rows {
-        w.write_record(r).map_err(err)?;
-    }
-    w.flush().map_err(|e| Error::io(path, e))
+    super::atomic::write_with(path, |tmp| {
+        let mut w = csv::Writer::from_path(tmp).map_err(err)?;
+        w.write_record(header).map_err(err)?;
+        for r in rows {
+            w.write_record(r).map_err(err)?;
+        }
+        w.flush().map_err(|e| Error::io(path, e))
+    })
 }

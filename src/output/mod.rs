@@ -1,6 +1,7 @@
-//! Generic outputs: CSV files (fixed float formatting) and PNG plots; they know nothing of
-//! runs or reports.
+//! Generic outputs: CSV files (fixed float formatting), PNG plots and VTK fields; they know
+//! nothing of runs or reports. Every file is written through [`atomic`]: complete or not at all.
 
+pub mod atomic;
 pub mod csv;
 pub mod field_plot;
 pub mod plot;

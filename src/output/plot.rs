@@ -170,21 +170,36 @@ pub(crate) trait Picture {
     ) -> std::result::Result<(), String>;
 }
 
-/// Writes `picture` to `path` (PNG) and to the same path with extension `svg`.
+/// Writes `picture` to `path` (PNG) and to the same path with extension `svg`, each rendered to
+/// a temporary file renamed over its name when complete ([`super::atomic`]).
 pub(crate) fn save(path: &Path, picture: &impl Picture) -> Result<()> {
     let size = picture.size();
-    let err = |e: &dyn std::fmt::Display| plot_err(path, e);
-    {
-        let root = BitMapBackend::new(path, size).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| err(&e))?;
-        picture.draw(&root).map_err(|e| err(&e))?;
-        root.present().map_err(|e| err(&e))?;
-    }
+    super::atomic::write_with(path, |tmp| {
+        paint(
+            BitMapBackend::new(tmp, size).into_drawing_area(),
+            picture,
+            path,
+        )
+    })?;
     let svg = path.with_extension("svg");
-    let root = SVGBackend::new(&svg, size).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| plot_err(&svg, e))?;
-    picture.draw(&root).map_err(|e| plot_err(&svg, e))?;
-    root.present().map_err(|e| plot_err(&svg, e))
+    super::atomic::write_with(&svg, |tmp| {
+        paint(
+            SVGBackend::new(tmp, size).into_drawing_area(),
+            picture,
+            &svg,
+        )
+    })
+}
+
+/// A white background, then `picture`, on `root`; errors name `path`.
+fn paint<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    picture: &impl Picture,
+    path: &Path,
+) -> Result<()> {
+    root.fill(&WHITE).map_err(|e| plot_err(path, e))?;
+    picture.draw(&root).map_err(|e| plot_err(path, e))?;
+    root.present().map_err(|e| plot_err(path, e))
 }
 
 /// Any plotters drawing error as text.

@@ -182,9 +182,11 @@ impl<'a> VtuSeries<'a> {
                 data: Attributes { point, cell },
             }),
         };
-        vtk.export(&path).map_err(|e| Error::Vtk {
-            path: path.clone(),
-            message: e.to_string(),
+        super::atomic::write_with(&path, |tmp| {
+            vtk.export(tmp).map_err(|e| Error::Vtk {
+                path: path.clone(),
+                message: e.to_string(),
+            })
         })?;
         self.written.push((s.t, name));
         self.write_collection()
@@ -206,8 +208,7 @@ impl<'a> VtuSeries<'a> {
             ));
         }
         xml.push_str("  </Collection>\n</VTKFile>\n");
-        let path = self.collection_path();
-        std::fs::write(&path, xml).map_err(|e| Error::io(&path, e))
+        super::atomic::write_bytes(&self.collection_path(), xml)
     }
 }
 

@@ -403,8 +403,7 @@ pub fn write_index(out: &Path, c: &Contents<'_>) -> Result<()> {
         ("index.md", doc.markdown()),
         ("index.html", doc.html("dyncontact report")),
     ] {
-        let path = out.join(name);
-        std::fs::write(&path, text).map_err(|e| Error::io(&path, e))?;
+        crate::output::atomic::write_bytes(&out.join(name), text)?;
     }
     Ok(())
 }
@@ -418,6 +417,10 @@ fn data_files(out: &Path) -> Result<Vec<String>> {
         .filter_map(|e| e.ok())
         .filter_map(|e| {
             let name = e.file_name().to_string_lossy().to_string();
+            if name.starts_with('.') {
+                // Hidden: a temporary file of an interrupted write (output::atomic).
+                return None;
+            }
             let dir = e.file_type().is_ok_and(|t| t.is_dir());
             if dir {
                 (name == "probes" || name == "cases").then(|| format!("{name}/"))

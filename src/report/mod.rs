@@ -122,7 +122,11 @@ fn copy_cases(files: &[Arc<CaseFile>], out: &Path) -> Result<Vec<CaseEntry>> {
         .map(|f| {
             let name = format!("{}.toml", f.stem());
             let to = dir.join(&name);
-            std::fs::copy(&f.path, &to).map_err(|e| Error::io(&to, e))?;
+            crate::output::atomic::write_with(&to, |tmp| {
+                std::fs::copy(&f.path, tmp)
+                    .map(drop)
+                    .map_err(|e| Error::io(&to, e))
+            })?;
             Ok(CaseEntry {
                 kind: f.build(&Default::default())?.kind().to_string(),
                 title: f.title.clone(),
@@ -194,8 +198,7 @@ fn write(
     (cases, quick): (&[CaseEntry], bool),
 ) -> Result<()> {
     write_records(&out.join("summary.csv"), records, false)?;
-    let columns = out.join("COLUMNS.md");
-    std::fs::write(&columns, columns::columns_md()).map_err(|e| Error::io(&columns, e))?;
+    crate::output::atomic::write_bytes(&out.join("COLUMNS.md"), columns::columns_md())?;
     write_timings(&out.join("timings.csv"), records)?;
     let orders = orders::orders(records);
     orders::write_orders(&out.join("orders.csv"), &orders)?;

@@ -61,7 +61,7 @@ impl Journal {
             let text = JOURNAL.read(&path)?;
             let complete = &text[..text.iter().rposition(|&b| b == b'\n').map_or(0, |k| k + 1)];
             if complete.len() != text.len() {
-                std::fs::write(&path, complete).map_err(|e| Error::io(&path, e))?;
+                crate::output::atomic::write_bytes(&path, complete)?;
             }
             read_journal(complete, &path)?
         } else {
@@ -209,17 +209,14 @@ pub fn run_study(
 }
 
 /// Writes `dir/journal` again with `records` (the final ones, one per job, in job order), so
-/// that it holds what `summary.csv` holds; written beside and renamed, so that a kill leaves
-/// the old journal or the new one.
+/// that it holds what `summary.csv` holds; [`write_rows`] writes it beside and renames it, so
+/// that a kill leaves the old journal or the new one.
 pub fn rewrite(dir: &Path, journal: &str, jobs: &[Job], records: &[RunRecord]) -> Result<()> {
-    let path = dir.join(journal);
-    let tmp = dir.join(format!("{journal}.tmp"));
     write_rows(
-        &tmp,
+        &dir.join(journal),
         &header(),
         jobs.iter()
             .zip(records)
             .map(|(j, r)| fields(r, &j.file.hash)),
-    )?;
-    std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))
+    )
 }
