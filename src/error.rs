@@ -87,6 +87,13 @@ pub enum Error {
     /// Writing or reading VTK field output failed.
     #[error("vtk output {path}: {message}")]
     Vtk { path: PathBuf, message: String },
+    /// An error with where it arose: the case file, the sweep.
+    #[error("{context}: {source}")]
+    Context {
+        context: String,
+        #[source]
+        source: Box<Error>,
+    },
     /// Plotting failed.
     #[error("plot {path}: {message}")]
     Plot { path: PathBuf, message: String },
@@ -130,6 +137,23 @@ impl Error {
             field: field.into(),
             value: format!("{value:?}"),
             requirement: req.to_string(),
+        }
+    }
+
+    /// The error as met in the case file `path`, named in front unless the error names it
+    /// already (malformed TOML, an unreadable file).
+    pub fn in_case_file(self, path: &std::path::Path) -> Self {
+        match &self {
+            Error::CaseSyntax { path: p, .. } | Error::Input { path: p, .. } if p == path => self,
+            _ => self.context(path.display()),
+        }
+    }
+
+    /// The error preceded by `context` (`<context>: <error>`).
+    pub fn context(self, context: impl std::fmt::Display) -> Self {
+        Error::Context {
+            context: context.to_string(),
+            source: Box::new(self),
         }
     }
 

@@ -325,3 +325,34 @@ fn a_run_killed_while_writing_leaves_the_previous_outputs_whole() {
         .into();
     assert!(before == after, "an output was changed by the killed run");
 }
+
+#[test]
+fn report_and_sweep_errors_name_the_case_file_and_the_sweep() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = dir.path().join("cases");
+    std::fs::create_dir(&cases).unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let bad = edited(&cases, "bar1d.toml", &[("density = 1.0", "density = -1.0")]);
+    let out = dyncontact(&["report", "--cases", cases.to_str().unwrap(), "--out", o]);
+    assert_clear_error(
+        &out,
+        &[&format!("{bad}: invalid value for `material.density`")],
+    );
+    let out = dyncontact(&["sweep", &bad, "--out", o]);
+    assert_clear_error(
+        &out,
+        &[&format!("{bad}: invalid value for `material.density`")],
+    );
+    // A level of a sweep that misses t_end: the file, the sweep, the job and the field.
+    let bad = edited(&cases, "bar1d.toml", &[("dt = 0.025", "dt = 0.07")]);
+    let out = dyncontact(&["sweep", &bad, "--quick", "--out", o]);
+    assert_clear_error(
+        &out,
+        &[
+            &format!("{bad}: sweep `orders`, standard × newmark"),
+            "level 0",
+            "run.t_end",
+        ],
+    );
+}

@@ -458,9 +458,11 @@ fn title(text: &str) -> String {
     first[..end].trim_end_matches('.').to_string()
 }
 
-/// Reads, parses and validates a case file, applying `overrides`.
+/// Reads, parses and validates a case file, applying `overrides` (errors name the file).
 pub fn load(path: &Path, overrides: &Overrides) -> Result<Box<dyn Case>> {
-    CaseFile::read(path)?.build(overrides)
+    CaseFile::read(path)
+        .and_then(|f| f.build(overrides))
+        .map_err(|e| e.in_case_file(path))
 }
 
 /// Deserialises case-file text into the spec of one case kind (`path` is only used in messages).

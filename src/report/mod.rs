@@ -67,11 +67,10 @@ pub fn case_files(dir: &Path) -> Result<Vec<Arc<CaseFile>>> {
     let mut out = Vec::new();
     for f in cases::case_paths(dir)? {
         let file = CaseFile::read(&f)?;
-        if !file
-            .build(&cases::Overrides::default())?
-            .sweeps()
-            .is_empty()
-        {
+        let case = file
+            .build(&cases::Overrides::default())
+            .map_err(|e| e.in_case_file(&f))?;
+        if !case.sweeps().is_empty() {
             out.push(Arc::new(file));
         }
     }

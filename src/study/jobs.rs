@@ -127,8 +127,13 @@ impl RunRecord {
 }
 
 /// Enumerates the jobs of every `[[sweep]]` of a case file (`--quick`: the first levels only).
-/// Errors on an invalid case file or sweep table, before anything runs.
+/// Errors on an invalid case file or sweep table, before anything runs, naming the file (and
+/// the sweep and job).
 pub fn jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
+    sweep_jobs(file, quick).map_err(|e| e.in_case_file(&file.path))
+}
+
+fn sweep_jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
     let case = file.build(&cases::Overrides::default())?;
     if case.sweeps().is_empty() {
         return Err(Error::invalid(
@@ -139,16 +144,24 @@ pub fn jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
     }
     let mut out = Vec::new();
     for s in case.sweeps() {
-        let levels = s.refinements(quick)?;
+        let in_sweep = |e: Error| e.context(format!("sweep `{}`", s.name));
+        let levels = s.refinements(quick).map_err(in_sweep)?;
         for space in &s.spaces {
-            crate::space::by_name(space)?;
+            crate::space::by_name(space).map_err(in_sweep)?;
             for choice in &s.schemes {
                 for (level, &refinement) in levels.iter().enumerate() {
                     let overrides = s.overrides(space, choice, refinement);
                     let mut spec = case.run().clone();
                     overrides.apply(&mut spec);
-                    spec.validate()?;
-                    let parameters = spec.parameters()?;
+                    let in_job = |e: Error| {
+                        e.context(format!(
+                            "sweep `{}`, {space} × {}, level {level}",
+                            s.name,
+                            choice.label()
+                        ))
+                    };
+                    spec.validate().map_err(in_job)?;
+                    let parameters = spec.parameters().map_err(in_job)?;
                     let key = [
                         file.stem().as_str(),
                         &s.name,
