@@ -356,3 +356,17 @@ fn report_and_sweep_errors_name_the_case_file_and_the_sweep() {
         ],
     );
 }
+
+#[test]
+fn a_bar_at_rest_reports_an_absolute_energy_drift_not_nan() {
+    let dir = tempfile::tempdir().unwrap();
+    let bar = edited(dir.path(), "bar1d.toml", &[("lift = 0.5", "lift = 0.0")]);
+    let o = dir.path().join("o");
+    let out = dyncontact(&["run", &bar, "--out", o.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let summary = std::fs::read_to_string(o.join("summary.csv")).unwrap();
+    let (header, row) = summary.split_once('\n').unwrap();
+    let drift = header.split(',').position(|c| c == "energy_drift").unwrap();
+    assert_eq!(row.split(',').nth(drift), Some("0.000000000000e0"), "{row}");
+    assert!(!row.contains("NaN"), "{row}");
+}

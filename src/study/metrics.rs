@@ -7,13 +7,15 @@ use crate::exact::hertz::Hertz;
 /// Metrics of one run. `None` where a metric does not apply (no exact solution, 0D case, …).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Metrics {
-    /// `max_n |E_n − E_0| / |E_0|`.
+    /// `max_n |E_n − E_0| / |E_0|`; absolute, `max_n |E_n − E_0|`, when E_0 = 0 (a body at
+    /// rest in its reference state: a relative drift would be 0/0).
     pub energy_drift: f64,
-    /// `E_N / E_0`.
+    /// `E_N / E_0` (`1 + E_N` when E_0 = 0).
     pub energy_ratio: f64,
     /// `max |E_n − E_0| / |E_0|` over the samples away from contact (no contact force at n nor
     /// at n − 1): the drift without the one-step dip of the three-level schemes' midpoint energy
-    /// at each impact; None when the body is never free for two samples in a row.
+    /// at each impact; None when the body is never free for two samples in a row. Absolute
+    /// when E_0 = 0, as `energy_drift`.
     pub energy_drift_free: Option<f64>,
     /// `max(0, max_n −g_n)` at the probe.
     pub max_penetration: f64,
@@ -23,7 +25,7 @@ pub struct Metrics {
     pub err_u_l2_h1: Option<f64>,
     /// `(Σ_n Δt (σ_h − σ)²)^{1/2}` at the contact point.
     pub err_sigma_l2: Option<f64>,
-    /// `max_n |E_n − E(t_n)| / |E(0)|` against the exact energy.
+    /// `max_n |E_n − E(t_n)| / |E(0)|` against the exact energy (absolute when E(0) = 0).
     pub err_energy: Option<f64>,
     /// `max_n |u_h(0, t_n) − u(0, t_n)|` at the contact point.
     pub err_u_contact: Option<f64>,
@@ -171,6 +173,16 @@ impl std::fmt::Display for Drift {
     }
 }
 
+/// `x / |scale|`, or `x` itself when the scale is 0: the energy errors are relative to the
+/// initial energy, and absolute for a run that starts without energy.
+fn relative(x: f64, scale: f64) -> f64 {
+    if scale == 0.0 {
+        x
+    } else {
+        x / scale.abs()
+    }
+}
+
 fn total_variation(x: impl Iterator<Item = f64>) -> f64 {
     let mut prev: Option<f64> = None;
     let mut tv = 0.0;
@@ -194,16 +206,18 @@ pub fn compute(
     exact_first_impact: Option<f64>,
 ) -> Metrics {
     let e0 = rows[0].energy;
-    let energy_drift = rows
-        .iter()
-        .map(|r| (r.energy - e0).abs())
-        .fold(0.0, f64::max)
-        / e0.abs();
-    let energy_ratio = rows[rows.len() - 1].energy / e0;
+    let energy_drift = relative(
+        rows.iter()
+            .map(|r| (r.energy - e0).abs())
+            .fold(0.0, f64::max),
+        e0,
+    );
+    let e_n = rows[rows.len() - 1].energy;
+    let energy_ratio = if e0 == 0.0 { 1.0 + e_n } else { e_n / e0 };
     let energy_drift_free = rows
         .windows(2)
         .filter(|w| w[0].force_contact == 0.0 && w[1].force_contact == 0.0)
-        .map(|w| (w[1].energy - e0).abs() / e0.abs())
+        .map(|w| relative((w[1].energy - e0).abs(), e0))
         .reduce(f64::max);
     let max_penetration = rows.iter().map(|r| -r.gap).fold(0.0, f64::max);
     let tv = total_variation(rows.iter().map(|r| r.sigma_contact));
@@ -240,11 +254,13 @@ pub fn compute(
         err_sigma_l2: (has_exact && stress_is_function)
             .then(|| l2_time(&|i| rows[i].sigma_contact - rows[i].exact.map_or(0.0, |e| e.1))),
         err_energy: exact_metric(&|| {
-            let ref_e = rows[0].exact.map_or(1.0, |e| e.2).abs();
-            rows.iter()
-                .map(|r| (r.energy - r.exact.map_or(0.0, |e| e.2)).abs())
-                .fold(0.0, f64::max)
-                / ref_e
+            let ref_e = rows[0].exact.map_or(1.0, |e| e.2);
+            relative(
+                rows.iter()
+                    .map(|r| (r.energy - r.exact.map_or(0.0, |e| e.2)).abs())
+                    .fold(0.0, f64::max),
+                ref_e,
+            )
         }),
         err_u_contact: exact_metric(&|| {
             rows.iter()
@@ -384,5 +400,47 @@ mod tests {
         assert_eq!(d.to_string(), "4.800e-2 (4.700e-2 outside impact steps)");
         m.energy_drift_free = None;
         assert_eq!(m.drift().to_string(), "4.800e-2");
+    }
+
+    fn rows(energy: &[f64]) -> Vec<Row> {
+        energy
+            .iter()
+            .enumerate()
+            .map(|(n, &e)| Row {
+                t: n as f64,
+                u_contact: 0.0,
+                v_contact: 0.0,
+                sigma_contact: 0.0,
+                energy: e,
+                gap: 0.0,
+                force_contact: 0.0,
+                approach: None,
+                momentum: None,
+                exact: Some((0.0, 0.0, 0.0)),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_energy_errors_are_absolute_when_the_initial_energy_is_zero() {
+        let m = compute(&rows(&[0.0, 0.0, 0.0]), &[], 1.0, true, None);
+        assert_eq!(
+            (
+                m.energy_drift,
+                m.energy_ratio,
+                m.energy_drift_free,
+                m.err_energy
+            ),
+            (0.0, 1.0, Some(0.0), Some(0.0))
+        );
+        let m = compute(&rows(&[0.0, 2e-3, 1e-3]), &[], 1.0, true, None);
+        assert_eq!((m.energy_drift, m.energy_ratio), (2e-3, 1.0 + 1e-3));
+        assert_eq!(
+            (m.energy_drift_free, m.err_energy),
+            (Some(2e-3), Some(2e-3))
+        );
+        // Relative otherwise.
+        let m = compute(&rows(&[2.0, 2.5, 1.0]), &[], 1.0, false, None);
+        assert_eq!((m.energy_drift, m.energy_ratio), (0.5, 0.5));
     }
 }
