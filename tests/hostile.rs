@@ -370,3 +370,22 @@ fn a_bar_at_rest_reports_an_absolute_energy_drift_not_nan() {
     assert_eq!(row.split(',').nth(drift), Some("0.000000000000e0"), "{row}");
     assert!(!row.contains("NaN"), "{row}");
 }
+
+#[test]
+fn a_space_that_would_leave_the_bar_without_mass_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    for space in ["mass_redistribution", "mass_elimination"] {
+        let out = dyncontact(&[
+            "run",
+            "cases/bar1d.toml",
+            "--elements",
+            "1",
+            "--space",
+            space,
+            "--out",
+            o.to_str().unwrap(),
+        ]);
+        assert_clear_error(&out, &["mesh.elements`: 1", space, "without mass"]);
+    }
+}

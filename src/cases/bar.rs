@@ -141,7 +141,22 @@ impl<X: BarExact> Case for Bar<X> {
             gravity: None,
             lift: 0.0,
         };
-        self.fem.problem(|m| space.inertia(m), &initial)
+        let problem = self.fem.problem(|m| space.inertia(m), &initial)?;
+        // One P1 element of a clamped bar: the contact dof is the only free dof, and a space
+        // that makes it massless would leave a bar without mass.
+        let ones = vec![1.0; problem.n()];
+        if problem.inertia.mass_times(&ones)?.iter().all(|&m| m == 0.0) {
+            return Err(Error::invalid(
+                "mesh.elements",
+                self.fem.mesh.connectivity.len(),
+                &format!(
+                    "space `{}` leaves the bar without mass: its only free dof is the contact \
+                     dof, which this space makes massless; use 2 elements or more (or degree 2)",
+                    space.name()
+                ),
+            ));
+        }
+        Ok(problem)
     }
 
     fn exact(&self) -> Option<&dyn ExactContact> {
