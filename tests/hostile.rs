@@ -389,3 +389,42 @@ fn a_space_that_would_leave_the_bar_without_mass_is_refused() {
         assert_clear_error(&out, &["mesh.elements`: 1", space, "without mass"]);
     }
 }
+
+#[test]
+fn a_mass_lost_against_the_stiffness_is_refused_naming_the_density() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    // block2d was a failed factorisation ("not symmetric positive definite"), bar1d a run with
+    // an energy drift of 1e270, spring_mass an exact trajectory of 10⁵ impacts.
+    for (file, from, to, field) in [
+        (
+            "block2d.toml",
+            "density = 1.0",
+            "density = 1e-300",
+            "material.density`: 1e-300",
+        ),
+        (
+            "bar1d.toml",
+            "density = 1.0",
+            "density = 1e-300",
+            "material.density`: 1e-300",
+        ),
+        (
+            "bar1d.toml",
+            "young = 1.0",
+            "young = 1e300",
+            "against material.young = 1e300",
+        ),
+        (
+            "spring_mass.toml",
+            "mass = 1.0",
+            "mass = 1e-300",
+            "system.mass`: 1e-300",
+        ),
+    ] {
+        let case = edited(dir.path(), file, &[(from, to)]);
+        let out = dyncontact(&["run", &case, "--t-end", "0.1", "--out", o]);
+        assert_clear_error(&out, &[field, "round-off of the stiffness"]);
+    }
+}

@@ -347,6 +347,12 @@ impl Body {
         let mut run = spec.run;
         o.apply(&mut run);
         run.validate()?;
+        super::check_time_scale(
+            ("material.density", m.density),
+            ("material.young", m.young),
+            mesh.h,
+            run.dt,
+        )?;
         Ok(Self {
             kind,
             fem: Discretisation::new(

@@ -258,6 +258,39 @@ impl RunSpec {
 /// three-level schemes, so a t_end off the grid is refused instead.
 pub const STEPS_TOLERANCE: f64 = 1e-9;
 
+/// Largest accepted ratio `Δt / τ` of the time step to the time scale of the inertia against the
+/// stiffness, `τ = h √(ρ/E)` (a wave crossing an element; `√(m/k)` for one mass on a spring).
+pub const TIME_SCALE_RATIO: f64 = 1e6;
+
+/// Refuses a density (or mass) so small against the stiffness (or a stiffness so large) that the
+/// time step exceeds [`TIME_SCALE_RATIO`] times `τ = h √(ρ/E)`: the mass term of the step matrix
+/// `m M + k K` is then about `(τ/Δt)² ≤ 1e-12` of the stiffness term, a few digits above its
+/// round-off, so the inertia hardly enters the step (a free body's step matrix is singular to
+/// round-off and its factorisation fails). `density` and `stiffness` are `(field, value)`.
+pub fn check_time_scale(
+    density: (&str, f64),
+    stiffness: (&str, f64),
+    h: f64,
+    dt: f64,
+) -> Result<()> {
+    let tau = h * (density.1 / stiffness.1).sqrt();
+    if tau * TIME_SCALE_RATIO >= dt {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        density.0,
+        density.1,
+        &format!(
+            "too small against {} = {:e}: the time scale of the inertia against the stiffness, \
+             τ = {tau:.3e} (h √(ρ/E), or √(m/k)), is below run.dt / {TIME_SCALE_RATIO:e} = \
+             {:.3e}, so the mass would fall to the round-off of the stiffness in the step matrix",
+            stiffness.0,
+            stiffness.1,
+            dt / TIME_SCALE_RATIO
+        ),
+    ))
+}
+
 /// Overrides of a case file from the command line.
 #[derive(Debug, Clone, Default)]
 pub struct Overrides {

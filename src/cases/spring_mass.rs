@@ -75,6 +75,12 @@ impl SpringMassCase {
             .params
             .or_set(&crate::time::paoli_schatzman::RESTITUTION, s.restitution);
         run.validate()?;
+        super::check_time_scale(
+            ("system.mass", s.mass),
+            ("system.stiffness", s.stiffness),
+            1.0,
+            run.dt,
+        )?;
         let p = SpringMassParams {
             mass: s.mass,
             stiffness: s.stiffness,
