@@ -428,3 +428,31 @@ fn a_mass_lost_against_the_stiffness_is_refused_naming_the_density() {
         assert_clear_error(&out, &[field, "round-off of the stiffness"]);
     }
 }
+
+#[test]
+fn a_final_time_too_far_is_blamed_on_t_end() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    // 8e16 steps: beyond a count of steps; 8e14 steps: beyond the memory of the time series.
+    for (t_end, dt, why) in [
+        ("1e15", "0.0125", "at most 2^53 steps"),
+        ("1e300", "1e-300", "is inf steps of run.dt = 1e-300"),
+        ("1e13", "0.0125", "GiB"),
+    ] {
+        if why == "GiB" && !Path::new("/proc/meminfo").exists() {
+            continue; // no estimate of the memory available: the run would start
+        }
+        let out = dyncontact(&[
+            "run",
+            "cases/bar1d.toml",
+            "--t-end",
+            t_end,
+            "--dt",
+            dt,
+            "--out",
+            o,
+        ]);
+        assert_clear_error(&out, &["invalid value for `run.t_end`", why]);
+    }
+}

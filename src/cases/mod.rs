@@ -167,6 +167,17 @@ impl RunSpec {
             ));
         }
         let ratio = self.t_end / self.dt;
+        // Beyond 2^53, t_end/dt is no longer a count of steps (and a count the loop can take).
+        if ratio > 2f64.powi(53) {
+            return Err(Error::invalid(
+                "run.t_end",
+                self.t_end,
+                &format!(
+                    "is {ratio:e} steps of run.dt = {:?}: a run takes at most 2^53 steps",
+                    self.dt
+                ),
+            ));
+        }
         if (ratio - ratio.round()).abs() > STEPS_TOLERANCE * ratio {
             // N·dt to 10 significant digits (3 × 0.4 prints as 1.2).
             let at = |n: f64| {
@@ -181,7 +192,7 @@ impl RunSpec {
                 "run.t_end",
                 self.t_end,
                 &format!(
-                    "must be a whole number of steps of run.dt = {}: t_end/dt = {ratio}, so the \
+                    "must be a whole number of steps of run.dt = {:?}: t_end/dt = {ratio}, so the \
                      run would end at {} or {}, not at t_end",
                     self.dt,
                     at(ratio.floor()),

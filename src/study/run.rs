@@ -151,7 +151,7 @@ pub fn run_with_output(
     let steps = spec.steps();
     // The time series and field errors kept per step (rows, copies in flight aside).
     let per_step = (std::mem::size_of::<Row>() + 16) as f64;
-    crate::util::check_memory("run.dt", spec.dt, (steps + 1) as f64 * per_step)?;
+    crate::util::check_memory("run.t_end", spec.t_end, (steps + 1) as f64 * per_step)?;
     let space = crate::space::by_name(&spec.space)?;
     let scheme = crate::time::by_name(&spec.scheme, spec.params())?;
     let formulation = crate::contact::formulation(&spec.options)?;
