@@ -456,3 +456,65 @@ fn a_final_time_too_far_is_blamed_on_t_end() {
         assert_clear_error(&out, &["invalid value for `run.t_end`", why]);
     }
 }
+
+#[test]
+fn options_the_run_would_ignore_are_refused_naming_the_flag_or_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let run = |args: &[&str]| {
+        let mut a = vec!["run"];
+        a.extend_from_slice(args);
+        a.extend(["--t-end", "0.5", "--out", o]);
+        dyncontact(&a)
+    };
+    for (args, needles) in [
+        (
+            &["cases/spring_mass.toml", "--elements", "7"][..],
+            &["`--elements`", "spring_mass has one dof"][..],
+        ),
+        (
+            &[
+                "cases/spring_mass.toml",
+                "--scheme",
+                "backward_euler",
+                "--beta",
+                "0.3",
+            ],
+            &[
+                "run.beta (--beta)",
+                "scheme `backward_euler`",
+                "parameters are: none",
+            ],
+        ),
+        (
+            &["cases/bar1d.toml", "--alpha", "-0.1"],
+            &["run.alpha (--alpha)", "scheme `newmark`", "beta, gamma"],
+        ),
+        (
+            &["cases/bar1d.toml", "--nitsche-gamma", "10"],
+            &["run.nitsche_gamma (--nitsche-gamma)", "contact `nodal`"],
+        ),
+        (
+            &[
+                "cases/hertz2d.toml",
+                "--mesh",
+                "cases/meshes/disc.msh",
+                "--elements",
+                "8",
+            ],
+            &["`--elements`", "not to the mesh file cases/meshes/disc.msh"],
+        ),
+    ] {
+        assert_clear_error(&run(args), needles);
+    }
+    // The case file's β and γ are Newmark's: another scheme drops them rather than refuse.
+    let out = run(&["cases/bar1d.toml", "--scheme", "backward_euler"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // A physical group names Γ_C in a Gmsh file only.
+    let text = std::fs::read_to_string("cases/block2d.toml").unwrap();
+    let case = dir.path().join("group.toml");
+    std::fs::write(&case, format!("{text}\n[contact]\ngroup = \"bottom\"\n")).unwrap();
+    let out = run(&[case.to_str().unwrap()]);
+    assert_clear_error(&out, &["contact.group`: \"bottom\"", "Gmsh mesh"]);
+}

@@ -228,9 +228,33 @@ fn build_mesh(
         None => FACING,
     };
     if let Some(file) = o.mesh.as_ref().or(spec.mesh.file.as_ref()) {
+        // The file fixes the cells, their shape and degree.
+        let generated = [
+            ("--elements", o.elements.map(|n| n.to_string())),
+            ("--cells", o.cells.clone()),
+            ("--degree", o.degree.map(|n| n.to_string())),
+        ];
+        if let Some((flag, value)) = generated.into_iter().find_map(|(f, v)| Some((f, v?))) {
+            return Err(Error::invalid(
+                flag,
+                value,
+                &format!(
+                    "applies to a generated mesh, not to the mesh file {}",
+                    file.display()
+                ),
+            ));
+        }
         let group = spec.contact.group.as_deref().unwrap_or("contact");
         let mesh = crate::mesh::gmsh::read(file, dim, group)?;
         return Ok((mesh, ContactRule::Tagged));
+    }
+    if let Some(group) = &spec.contact.group {
+        return Err(Error::invalid(
+            "contact.group",
+            group,
+            "names a physical group of a Gmsh mesh (--mesh or mesh.file); a generated mesh \
+             takes Γ_C by contact.facing",
+        ));
     }
     let degree = o.degree.unwrap_or(spec.mesh.degree);
     let cells = o.cells.as_deref().unwrap_or(&spec.mesh.cells);

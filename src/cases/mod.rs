@@ -16,7 +16,7 @@ pub mod two_bars;
 use crate::error::{positive, Error, Result};
 use crate::exact::ExactContact;
 pub use crate::param::Options;
-use crate::param::Params;
+use crate::param::{Param, Params};
 use crate::problem::Problem;
 use crate::space::Space;
 use serde::de::DeserializeOwned;
@@ -201,6 +201,7 @@ impl RunSpec {
             ));
         }
         self.options.params.validate("run")?;
+        self.check_applicable()?;
         crate::space::by_name(&self.space)?;
         crate::time::by_name(&self.scheme, self.params())?;
         let formulation = crate::contact::formulation(&self.options)?;
@@ -228,6 +229,32 @@ impl RunSpec {
         }
         crate::contact::by_name(self.options.contact_solver(), 0)?;
         crate::time::LinearSolver::by_name(self.options.linear_solver())?;
+        Ok(())
+    }
+
+    /// Refuses a parameter that neither the scheme nor the contact formulation declares
+    /// (`--beta` with backward_euler, `--alpha` with newmark, `nitsche_gamma` with nodal
+    /// contact): the run would ignore it.
+    fn check_applicable(&self) -> Result<()> {
+        let own = applicable(&self.scheme, &self.options)?;
+        for p in crate::methods::all_params() {
+            if let (Some(v), false) = (self.params().value(p), own.contains(&p.name)) {
+                return Err(Error::invalid(
+                    format!("run.{} (--{})", p.name, p.name.replace('_', "-")),
+                    v,
+                    &format!(
+                        "does not apply to scheme `{}` with contact `{}`, whose parameters are: {}",
+                        self.scheme,
+                        self.options.contact(),
+                        if own.is_empty() {
+                            "none".to_string()
+                        } else {
+                            own.join(", ")
+                        }
+                    ),
+                ));
+            }
+        }
         Ok(())
     }
 
@@ -261,6 +288,16 @@ impl RunSpec {
     pub fn steps(&self) -> usize {
         ((self.t_end / self.dt).round() as usize).max(1)
     }
+}
+
+/// The parameters that apply to `scheme` with the contact formulation of `options`: those
+/// their registry entries declare ([`crate::time::entry`], [`crate::contact::formulation_entry`]).
+pub fn applicable(scheme: &str, options: &Options) -> Result<Vec<&'static str>> {
+    let scheme = crate::time::entry(scheme)?.params.iter();
+    let contact = crate::contact::formulation_entry(options.contact())?
+        .params
+        .iter();
+    Ok(scheme.chain(contact).map(|p: &&Param| p.name).collect())
 }
 
 /// Relative tolerance on `t_end / dt` being a whole number N: the run takes N steps of dt and
@@ -326,15 +363,38 @@ pub struct Overrides {
 }
 
 impl Overrides {
-    /// Applies the run-level overrides to `run`.
+    /// Applies the run-level overrides to `run`. When they change the scheme or the contact
+    /// formulation, the parameters `run` had for the methods replaced, and that the new ones do
+    /// not declare, are dropped (a case file's `beta` under `--scheme backward_euler`); a
+    /// parameter the overrides set for a method they do not use is kept, and refused by
+    /// [`RunSpec::validate`].
     pub fn apply(&self, run: &mut RunSpec) {
+        let before = (run.scheme.clone(), run.options.contact().to_string());
         if let Some(s) = &self.space {
             run.space = s.clone();
         }
         if let Some(s) = &self.scheme {
             run.scheme = s.clone();
         }
-        run.options.overlay(&self.options);
+        let mut options = run.options.clone();
+        options.overlay(&self.options);
+        if (run.scheme.as_str(), options.contact()) != (before.0.as_str(), before.1.as_str()) {
+            if let Ok(own) = applicable(&run.scheme, &options) {
+                let mut kept = Params::default();
+                for p in crate::methods::all_params() {
+                    let value = self.options.params.value(p).or_else(|| {
+                        own.contains(&p.name)
+                            .then(|| run.options.params.value(p))
+                            .flatten()
+                    });
+                    if let Some(v) = value {
+                        kept.set(p.name, v);
+                    }
+                }
+                options.params = kept;
+            }
+        }
+        run.options = options;
         run.dt = self.dt.unwrap_or(run.dt);
         run.t_end = self.t_end.unwrap_or(run.t_end);
     }
@@ -439,23 +499,33 @@ impl CaseFile {
             .map_or_else(String::new, |s| s.to_string_lossy().to_string())
     }
 
-    /// The validated case with `overrides` applied.
+    /// The validated case with `overrides` applied (a mesh override given to a case without
+    /// that kind of mesh is refused: it would be ignored).
     pub fn build(&self, overrides: &Overrides) -> Result<Box<dyn Case>> {
-        if !matches!(self.spec, Spec::Body(_)) {
-            let mesh_only = [
-                (
-                    "--mesh",
-                    overrides.mesh.as_ref().map(|m| m.display().to_string()),
-                ),
-                ("--cells", overrides.cells.clone()),
-            ];
-            if let Some((flag, value)) = mesh_only.into_iter().find_map(|(f, v)| Some((f, v?))) {
-                return Err(Error::invalid(
-                    flag,
-                    value,
-                    "applies to the 2D/3D body cases only",
-                ));
-            }
+        let o = overrides;
+        let (refused, why): (&[&str], &str) = match self.spec {
+            Spec::Body(_) => (&[], ""),
+            Spec::Bar1d(_) | Spec::BarFlight(_) | Spec::TwoBars(_) => (
+                &["--mesh", "--cells"],
+                "applies to the 2D/3D body cases only",
+            ),
+            Spec::SpringMass(_) => (
+                &["--mesh", "--cells", "--elements", "--degree"],
+                "applies to meshed cases only: spring_mass has one dof",
+            ),
+        };
+        let given = [
+            ("--mesh", o.mesh.as_ref().map(|m| m.display().to_string())),
+            ("--cells", o.cells.clone()),
+            ("--elements", o.elements.map(|n| n.to_string())),
+            ("--degree", o.degree.map(|n| n.to_string())),
+        ];
+        if let Some((flag, value)) = given
+            .into_iter()
+            .filter(|(f, _)| refused.contains(f))
+            .find_map(|(f, v)| Some((f, v?)))
+        {
+            return Err(Error::invalid(flag, value, why));
         }
         Ok(match &self.spec {
             Spec::Bar1d(s) => Box::new(bar1d::Bar1d::from_spec(s.clone(), overrides)?),

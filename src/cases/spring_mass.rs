@@ -71,9 +71,10 @@ impl SpringMassCase {
         let mut run = spec.run;
         o.apply(&mut run);
         // The schemes with a restitution law use the physical one unless told otherwise.
-        run.options
-            .params
-            .or_set(&crate::time::paoli_schatzman::RESTITUTION, s.restitution);
+        let restitution = &crate::time::paoli_schatzman::RESTITUTION;
+        if super::applicable(&run.scheme, &run.options)?.contains(&restitution.name) {
+            run.options.params.or_set(restitution, s.restitution);
+        }
         run.validate()?;
         super::check_time_scale(
             ("system.mass", s.mass),
