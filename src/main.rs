@@ -206,6 +206,7 @@ fn sweep(
     let journal = shard.map_or("journal.csv".to_string(), |(i, n)| {
         format!("journal-{i}-of-{n}.csv")
     });
+    let _lock = dyncontact::study::lock::Lock::acquire(out, &journal)?;
     let mut records = journal::run_study(&all, out, &journal, resume, true)?;
     if shard.is_none() {
         reference::reference_errors(&mut records);

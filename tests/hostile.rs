@@ -518,3 +518,37 @@ fn options_the_run_would_ignore_are_refused_naming_the_flag_or_field() {
     let out = run(&[case.to_str().unwrap()]);
     assert_clear_error(&out, &["contact.group`: \"bottom\"", "Gmsh mesh"]);
 }
+
+/// Two studies into one directory: the second is refused naming the first's process; once the
+/// first is killed, its lock file is taken over.
+#[test]
+fn a_second_study_into_the_same_directory_is_refused_naming_the_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().to_str().unwrap();
+    let mut first = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
+        .args(["report", "--quick", "--out", o])
+        .env("RAYON_NUM_THREADS", "1")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = dir.path().join("journal.csv.lock");
+    let pid = first.id().to_string();
+    let start = Instant::now();
+    while std::fs::read_to_string(&lock).ok().as_deref() != Some(pid.as_str()) {
+        assert!(
+            first.try_wait().unwrap().is_none(),
+            "the report ended first"
+        );
+        assert!(start.elapsed() < Duration::from_secs(60), "no lock file");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let second = dyncontact(&["sweep", "cases/spring_mass.toml", "--quick", "--out", o]);
+    first.kill().unwrap();
+    first.wait().unwrap();
+    assert_clear_error(&second, &["journal.csv.lock", &format!("(process {pid})")]);
+    assert!(lock.exists(), "a killed study cannot remove its lock file");
+    let third = dyncontact(&["sweep", "cases/spring_mass.toml", "--quick", "--out", o]);
+    assert!(third.status.success(), "{}", stderr(&third));
+    assert!(!lock.exists(), "a study that ends removes its lock file");
+}

@@ -140,6 +140,7 @@ fn copy_cases(files: &[Arc<CaseFile>], out: &Path) -> Result<Vec<CaseEntry>> {
 pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRecord>> {
     let files = select(case_files(cases_dir)?, &opts.cases, cases_dir)?;
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let _lock = crate::study::lock::Lock::acquire(out, "journal.csv")?;
     let mut all = Vec::new();
     for f in &files {
         all.extend(jobs::jobs(f, opts.quick)?);

@@ -9,6 +9,7 @@
 pub mod finite_body;
 pub mod jobs;
 pub mod journal;
+pub mod lock;
 pub mod metrics;
 pub mod orders;
 pub mod peers;
