@@ -175,6 +175,28 @@ pub fn positive(field: &str, value: f64) -> Result<f64> {
     }
 }
 
+/// Lengths accepted by [`length`]: the geometry forms up to third powers of the lengths and
+/// their inverses (cell volumes, Jacobians, stiffness entries), which stay far inside the
+/// floating-point range (1e±308) for lengths in `[1e-50, 1e50]`.
+pub const LENGTH_RANGE: (f64, f64) = (1e-50, 1e50);
+
+/// Checks that the length `value` lies in [`LENGTH_RANGE`].
+pub fn length(field: &str, value: f64) -> Result<f64> {
+    let (lo, hi) = LENGTH_RANGE;
+    if (lo..=hi).contains(&value) {
+        Ok(value)
+    } else {
+        Err(Error::invalid(
+            field,
+            value,
+            &format!(
+                "a length must lie in [{lo:e}, {hi:e}]: choose units in which the body is of \
+                 moderate size"
+            ),
+        ))
+    }
+}
+
 /// Checks that `value` is finite and ≥ 0.
 pub fn non_negative(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value >= 0.0 {

@@ -163,21 +163,51 @@ impl<'de> Deserialize<'de> for Params {
 pub struct Options {
     /// Contact formulation (`dyncontact list` lists them with their parameters).
     #[arg(long)]
+    #[serde(default, deserialize_with = "names::contact")]
     pub contact: Option<String>,
     /// Multiplier space of the `weak` formulation on Γ_C: p1 (vertices, default) or p0 (faces).
     #[arg(long = "contact-multiplier")]
+    #[serde(default, deserialize_with = "names::contact_multiplier")]
     pub contact_multiplier: Option<String>,
     /// Solver of the per-step contact LCP (active_set, clarabel).
     #[arg(long = "contact-solver")]
+    #[serde(default, deserialize_with = "names::contact_solver")]
     pub contact_solver: Option<String>,
     /// Linear solver of the step matrix: auto (CG for large 3D problems with nodal contact,
     /// direct otherwise), direct (sparse Cholesky / LU) or cg.
     #[arg(long = "linear-solver")]
+    #[serde(default, deserialize_with = "names::linear_solver")]
     pub linear_solver: Option<String>,
     /// Numerical parameters of the methods.
     #[serde(flatten)]
     #[command(flatten)]
     pub params: Params,
+}
+
+/// The name fields of [`Options`], read so that a wrong type names its key: flattened into
+/// `[run]` and the sweeps' scheme entries, serde's own error would point at the table only.
+mod names {
+    use serde::{Deserialize, Deserializer};
+
+    fn name<'de, D: Deserializer<'de>>(d: D, key: &str) -> Result<Option<String>, D::Error> {
+        match toml::Value::deserialize(d)? {
+            toml::Value::String(s) => Ok(Some(s)),
+            other => Err(serde::de::Error::custom(format!(
+                "`{key}`: expected a name (a string), found {}",
+                other.type_str()
+            ))),
+        }
+    }
+
+    macro_rules! named {
+        ($($key:ident),*) => {$(
+            pub fn $key<'de, D: Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
+                name(d, stringify!($key))
+            }
+        )*};
+    }
+
+    named!(contact, contact_multiplier, contact_solver, linear_solver);
 }
 
 impl Options {

@@ -7,7 +7,7 @@
 
 use super::bar::{Bar, BarExact, Material, MeshSpec};
 use super::{Overrides, RunSpec};
-use crate::error::{positive, Result};
+use crate::error::Result;
 use crate::exact::bar_impact::BarImpact;
 use serde::Deserialize;
 
@@ -53,7 +53,7 @@ impl Bar1d {
     /// Validates the spec, applies the overrides and builds the discretisation.
     pub fn from_spec(spec: Bar1dSpec, o: &Overrides) -> Result<Self> {
         spec.material.validate()?;
-        positive("geometry.length", spec.geometry.length)?;
+        crate::error::length("geometry.length", spec.geometry.length)?;
         crate::error::non_negative("geometry.lift", spec.geometry.lift)?;
         let (elements, degree) = spec.mesh.resolve(o)?;
         let mut run = spec.run;

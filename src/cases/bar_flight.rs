@@ -64,7 +64,7 @@ impl BarFlightCase {
     /// Validates the spec, applies the overrides and builds the (free) discretisation.
     pub fn from_spec(spec: BarFlightSpec, o: &Overrides) -> Result<Self> {
         spec.material.validate()?;
-        positive("geometry.length", spec.geometry.length)?;
+        crate::error::length("geometry.length", spec.geometry.length)?;
         non_negative("geometry.gap", spec.geometry.gap)?;
         positive("initial.speed", spec.initial.speed)?;
         let (elements, degree) = spec.mesh.resolve(o)?;

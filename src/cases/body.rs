@@ -269,11 +269,13 @@ fn build_mesh(
                 return Err(Error::invalid(
                     "geometry.size",
                     &g.size,
-                    &format!("needs {dim} entries for {kind}"),
+                    &format!(
+                        "a box (geometry.shape, default \"box\") needs {dim} entries for {kind}"
+                    ),
                 ));
             }
             for s in &g.size {
-                positive("geometry.size", *s)?;
+                crate::error::length("geometry.size", *s)?;
             }
             let mut cells = [1; 3];
             let mut size = [0.0; 3];
@@ -307,6 +309,7 @@ fn build_mesh(
                     "a disc or sphere needs a radius",
                 )
             })?;
+            crate::error::length("geometry.radius", radius)?;
             let nf = n as f64;
             let cells = nf.powi(dim as i32) * (1.0 + dim as f64) * per_cell(&element);
             let nodes = ((degree * n + 1) as f64).powi(dim as i32) * (1.0 + dim as f64);

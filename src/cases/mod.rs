@@ -329,9 +329,10 @@ pub fn check_time_scale(
         density.0,
         density.1,
         &format!(
-            "too small against {} = {:e}: the time scale of the inertia against the stiffness, \
-             τ = {tau:.3e} (h √(ρ/E), or √(m/k)), is below run.dt / {TIME_SCALE_RATIO:e} = \
-             {:.3e}, so the mass would fall to the round-off of the stiffness in the step matrix",
+            "too small against {} = {:e} on elements of size h = {h:.3e} (geometry and mesh): \
+             the time scale of the inertia against the stiffness, τ = {tau:.3e} (h √(ρ/E), or \
+             √(m/k)), is below run.dt / {TIME_SCALE_RATIO:e} = {:.3e}, so the mass would fall \
+             to the round-off of the stiffness in the step matrix",
             stiffness.0,
             stiffness.1,
             dt / TIME_SCALE_RATIO

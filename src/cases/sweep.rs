@@ -119,12 +119,29 @@ impl SweepSpec {
             if self.ratio < 2 {
                 return Err(Error::invalid(field("ratio"), self.ratio, "integer ≥ 2"));
             }
-            (0..count as u32)
-                .map(|k| Refinement {
-                    elements: self.elements.map(|n| n * self.ratio.pow(k)),
-                    dt: dt / self.ratio.pow(k) as f64,
+            // Level k: elements × ratioᵏ, dt / ratioᵏ, while they fit (k < 64 for ratio ≥ 2).
+            let level = |k: usize| -> Option<Refinement> {
+                let factor = self.ratio.checked_pow(u32::try_from(k).ok()?)?;
+                let elements = match self.elements {
+                    Some(n) => Some(n.checked_mul(factor)?),
+                    None => None,
+                };
+                Some(Refinement {
+                    elements,
+                    dt: dt / factor as f64,
                 })
-                .collect()
+            };
+            let mut levels = Vec::new();
+            for k in 0..count {
+                levels.push(level(k).ok_or_else(|| {
+                    Error::invalid(
+                        field("levels"),
+                        count,
+                        &format!("level {k} would take ratio^{k} times the elements or steps"),
+                    )
+                })?);
+            }
+            levels
         } else {
             self.refinements.clone()
         };

@@ -70,8 +70,8 @@ impl TwoBars {
         let m = &spec.material;
         positive("material.young", m.young)?;
         positive("material.density", m.density)?;
-        positive("geometry.lengths[0]", spec.geometry.lengths[0])?;
-        positive("geometry.lengths[1]", spec.geometry.lengths[1])?;
+        crate::error::length("geometry.lengths[0]", spec.geometry.lengths[0])?;
+        crate::error::length("geometry.lengths[1]", spec.geometry.lengths[1])?;
         positive("geometry.velocity", spec.geometry.velocity)?;
         let degree = o.degree.unwrap_or(spec.mesh.degree);
         let elements = o.elements.unwrap_or(spec.mesh.elements);

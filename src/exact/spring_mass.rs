@@ -109,7 +109,9 @@ impl SpringMass {
         }
         if impacts.len() == MAX_IMPACTS {
             return Err(Error::Unsupported(format!(
-                "exact spring-mass trajectory has more than {MAX_IMPACTS} impacts before t_end"
+                "exact spring-mass trajectory has more than {MAX_IMPACTS} impacts before \
+                 run.t_end = {t_end:?} (their rate is set by system.stiffness, system.mass and \
+                 system.restitution)"
             )));
         }
         Ok(Self {

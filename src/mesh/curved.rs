@@ -139,7 +139,7 @@ pub fn round_body(element: RefElement, n: usize, radius: f64, grading_ratio: f64
     }
     Ok(Mesh {
         origin: format!(
-            "{} generator (n = {n}, grading {grading_ratio})",
+            "{} generator (mesh.elements = {n}, mesh.grading = {grading_ratio})",
             if d == 2 { "disc" } else { "sphere" }
         ),
         element,

@@ -383,9 +383,16 @@ impl Mesh {
         if faces.is_empty() {
             return Err(Error::Mesh {
                 origin: self.origin.clone(),
-                message:
-                    "Γ_C is empty: no boundary face is in the contact group or faces the plane"
-                        .into(),
+                message: match rule {
+                    ContactRule::Facing(t) => format!(
+                        "Γ_C is empty: no boundary face faces the plane (outward normal n_d < \
+                         −{t}, contact.facing)"
+                    ),
+                    ContactRule::Tagged => {
+                        "Γ_C is empty: no boundary face is in the contact group (contact.group)"
+                            .into()
+                    }
+                },
             });
         }
         Ok(faces)

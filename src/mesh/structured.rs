@@ -81,7 +81,10 @@ pub fn box_mesh(element: RefElement, cells: [usize; 3], size: [f64; 3]) -> Resul
         }
     }
     Ok(Mesh {
-        origin: "structured box".into(),
+        origin: format!(
+            "structured box of {:?} cells (mesh.elements)",
+            &cells[..dim]
+        ),
         element,
         nodes,
         connectivity,
