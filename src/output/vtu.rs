@@ -172,7 +172,7 @@ impl<'a> VtuSeries<'a> {
         ];
         let cell = vec![Attribute::scalars("von_mises", 1).with_data(self.fem.von_mises(s.u))];
         let vtk = Vtk {
-            version: Version::new((1, 0)),
+            version: Version::new_xml(1, 0),
             byte_order: ByteOrder::LittleEndian,
             title: format!("{} t = {:.6e}", self.stem, s.t),
             file_path: None,
