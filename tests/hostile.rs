@@ -417,6 +417,18 @@ fn a_mass_lost_against_the_stiffness_is_refused_naming_the_density() {
             "against material.young = 1e300",
         ),
         (
+            "bar_flight.toml",
+            "density = 1.0",
+            "density = 1e-300",
+            "material.density`: 1e-300",
+        ),
+        (
+            "two_bars.toml",
+            "density = 1.0",
+            "density = 1e-300",
+            "material.density`: 1e-300",
+        ),
+        (
             "spring_mass.toml",
             "mass = 1.0",
             "mass = 1e-300",

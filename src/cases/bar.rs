@@ -36,6 +36,16 @@ impl Material {
         positive("material.density", self.density)?;
         Ok(())
     }
+
+    /// [`super::check_time_scale`] for elements of length `h` and the step `dt`.
+    pub fn check_time_scale(&self, h: f64, dt: f64) -> Result<()> {
+        super::check_time_scale(
+            ("material.density", self.density),
+            ("material.young", self.young),
+            h,
+            dt,
+        )
+    }
 }
 
 /// `[mesh]`.

@@ -59,12 +59,8 @@ impl Bar1d {
         let mut run = spec.run;
         o.apply(&mut run);
         run.validate()?;
-        super::check_time_scale(
-            ("material.density", spec.material.density),
-            ("material.young", spec.material.young),
-            spec.geometry.length / elements.max(1) as f64,
-            run.dt,
-        )?;
+        spec.material
+            .check_time_scale(spec.geometry.length / elements.max(1) as f64, run.dt)?;
         let exact = BarImpact {
             length: spec.geometry.length,
             young: spec.material.young,

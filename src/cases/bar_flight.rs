@@ -71,6 +71,8 @@ impl BarFlightCase {
         let mut run = spec.run;
         o.apply(&mut run);
         run.validate()?;
+        spec.material
+            .check_time_scale(spec.geometry.length / elements.max(1) as f64, run.dt)?;
         let exact = BarFlight {
             length: spec.geometry.length,
             young: spec.material.young,

@@ -68,8 +68,7 @@ impl TwoBars {
     /// Validates the spec, applies the overrides and builds the discretisations.
     pub fn from_spec(spec: TwoBarsSpec, o: &Overrides) -> Result<Self> {
         let m = &spec.material;
-        positive("material.young", m.young)?;
-        positive("material.density", m.density)?;
+        m.validate()?;
         crate::error::length("geometry.lengths[0]", spec.geometry.lengths[0])?;
         crate::error::length("geometry.lengths[1]", spec.geometry.lengths[1])?;
         positive("geometry.velocity", spec.geometry.velocity)?;
@@ -79,6 +78,7 @@ impl TwoBars {
         o.apply(&mut run);
         run.validate()?;
         let [l1, l2] = spec.geometry.lengths;
+        m.check_time_scale(l1 / elements.max(1) as f64, run.dt)?;
         let exact = Exact::new(
             [l1, l2],
             m.young,
