@@ -9,6 +9,7 @@
 
 pub mod active_set;
 pub mod clarabel_qp;
+pub mod friction;
 pub mod nitsche;
 pub mod nodal;
 pub mod penalty;
@@ -46,14 +47,26 @@ pub trait Solver: Send {
     ) -> std::result::Result<SolveInfo, SolverError>;
 }
 
-/// LCP solver names accepted by [`by_name`].
-pub const SOLVERS: &[&str] = &["active_set", "clarabel"];
+/// LCP solver names accepted by [`by_name`] (the friction solvers solve Signorini's LCP as
+/// their frictionless case).
+pub const SOLVERS: &[&str] = &[
+    "active_set",
+    "clarabel",
+    "alart_curnier",
+    "projected_gauss_seidel",
+];
 
 /// The LCP solver called `name`, with a workspace for `n_c` contact points.
 pub fn by_name(name: &str, n_c: usize) -> Result<Box<dyn Solver>> {
+    let signorini = friction::Coulomb {
+        mu: 0.0,
+        points: n_c,
+        tangents: 0,
+    };
     match name {
         "active_set" => Ok(Box::new(active_set::ActiveSet::new(n_c))),
         "clarabel" => Ok(Box::new(clarabel_qp::ClarabelQp::new())),
+        "alart_curnier" | "projected_gauss_seidel" => friction::by_name(name, signorini),
         _ => Err(Error::UnknownName {
             kind: "contact solver",
             name: name.to_string(),
@@ -103,6 +116,10 @@ pub trait Formulation: Send + Sync + std::fmt::Debug {
     /// formulation solves its own law).
     fn takes_solver(&self) -> bool {
         true
+    }
+    /// Whether it takes Coulomb friction ([`crate::problem::Friction`]); the others refuse it.
+    fn friction(&self) -> bool {
+        false
     }
     /// A failure of the run's setup explained in the formulation's terms (default: as is).
     fn explain(&self, error: Error) -> Error {

@@ -1,0 +1,285 @@
+//! Semismooth Newton on the Alart–Curnier function (Alart & Curnier 1991), as Siconos writes it:
+//! `computeAlartCurnierSTD`, `numerics/src/FrictionContact/fc3d_AlartCurnier_functions.c`
+//! lines 506–646 (siconos/siconos 6070f0f; `notes/papers/friction.md` §1). Per point, with
+//! `ρ > 0`:
+//!
+//! `RV_N = r_N − ρ u_N`,  `RV_T = r_T − ρ u_T`,  `R = μ max(0, RV_N)`,
+//! `F_N = r_N − max(0, RV_N)`,  `F_T = r_T − proj_{disc(R)}(RV_T)`,
+//!
+//! and `F(r) = 0` with `u = q + W r` is exactly Signorini + Coulomb. Newton solves
+//! `(A W + B) Δr = −F` with the generalized Jacobians `A = ∂F/∂u`, `B = ∂F/∂r` (stick:
+//! `A_TT = ρ I`; slip: `A_TN = μρ n̂`, `A_TT = ρ R Γ`, `B_TN = −μ n̂`, `B_TT = I − R Γ`,
+//! `n̂ = RV_T/‖RV_T‖`, `Γ = (I − n̂n̂ᵀ)/‖RV_T‖`; open: `B = I`), a dense LU on the points in the
+//! step, with a backtracking line search on ‖F‖. ρ = 1/W_NN per point (Siconos' scaled ρ: an
+//! unscaled ρ stalls when W is far from 1). Stops at `‖F‖ ≤` [`super::TOLERANCE`] · scale.
+
+use super::{Coulomb, Local, TOLERANCE};
+use crate::contact::{SolveInfo, Solver};
+use crate::error::SolverError;
+use nalgebra::{DMatrix, DVector};
+
+/// Newton iterations allowed per step.
+pub const MAX_ITERATIONS: usize = 100;
+
+/// Halvings of the line search before the full step is taken anyway.
+const LINE_SEARCH: usize = 30;
+
+/// The Alart–Curnier function of one point and its generalized Jacobians (`dim` ≤ 3 rows).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PointResidual {
+    /// F.
+    pub f: [f64; 3],
+    /// ∂F/∂u.
+    pub a: [[f64; 3]; 3],
+    /// ∂F/∂r.
+    pub b: [[f64; 3]; 3],
+}
+
+/// `F`, `∂F/∂u`, `∂F/∂r` at one point (`r`, `u`: normal first, then its tangents).
+pub fn point(mu: f64, rho: f64, r: &[f64], u: &[f64]) -> PointResidual {
+    let dim = r.len();
+    let mut out = PointResidual::default();
+    let rv_n = r[0] - rho * u[0];
+    if rv_n > 0.0 {
+        out.f[0] = rho * u[0];
+        out.a[0][0] = rho;
+    } else {
+        out.f[0] = r[0];
+        out.b[0][0] = 1.0;
+    }
+    if dim == 1 {
+        return out;
+    }
+    let radius = mu * rv_n.max(0.0);
+    let mut rv_t = [0.0; 2];
+    for ((x, rc), uc) in rv_t.iter_mut().zip(&r[1..]).zip(&u[1..]) {
+        *x = rc - rho * uc;
+    }
+    let norm = rv_t.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if radius > 0.0 && norm <= radius {
+        // Stick: F_T = ρ u_T.
+        for (c, uc) in u.iter().enumerate().skip(1) {
+            out.f[c] = rho * uc;
+            out.a[c][c] = rho;
+        }
+    } else if radius == 0.0 {
+        // Open (or no friction force available): F_T = r_T.
+        for (c, rc) in r.iter().enumerate().skip(1) {
+            out.f[c] = *rc;
+            out.b[c][c] = 1.0;
+        }
+    } else {
+        // Slip: F_T = r_T − R n̂.
+        let n: Vec<f64> = rv_t[..dim - 1].iter().map(|x| x / norm).collect();
+        for c in 1..dim {
+            out.f[c] = r[c] - radius * n[c - 1];
+            out.a[c][0] = mu * rho * n[c - 1];
+            out.b[c][0] = -mu * n[c - 1];
+            for e in 1..dim {
+                let delta = if c == e { 1.0 } else { 0.0 };
+                let gamma = (delta - n[c - 1] * n[e - 1]) / norm;
+                out.a[c][e] = rho * radius * gamma;
+                out.b[c][e] = delta - radius * gamma;
+            }
+        }
+    }
+    out
+}
+
+/// `F(r)` on the local problem and, when asked, `J = A W + B`.
+pub(crate) fn residual(
+    loc: &Local,
+    r: &DVector<f64>,
+    jacobian: bool,
+) -> (DVector<f64>, Option<DMatrix<f64>>) {
+    let u = loc.velocity(r);
+    let (k, dim) = (r.len(), loc.dim);
+    let mut f = DVector::zeros(k);
+    let mut jac = jacobian.then(|| DMatrix::zeros(k, k));
+    for p in 0..loc.points.len() {
+        let s = p * dim;
+        let res = point(
+            loc.mu,
+            loc.rho[p],
+            &r.as_slice()[s..s + dim],
+            &u.as_slice()[s..s + dim],
+        );
+        for c in 0..dim {
+            f[s + c] = res.f[c];
+        }
+        if let Some(j) = jac.as_mut() {
+            for c in 0..dim {
+                for e in 0..dim {
+                    j[(s + c, s + e)] += res.b[c][e];
+                    if res.a[c][e] != 0.0 {
+                        for col in 0..k {
+                            j[(s + c, col)] += res.a[c][e] * loc.w[(s + e, col)];
+                        }
+                    }
+                }
+            }
+        }
+    }
+    (f, jac)
+}
+
+/// The semismooth Newton solver of the Coulomb–Signorini problem.
+#[derive(Debug, Clone)]
+pub struct AlartCurnier {
+    law: Coulomb,
+}
+
+impl AlartCurnier {
+    /// For `law`.
+    pub fn new(law: Coulomb) -> Self {
+        Self { law }
+    }
+}
+
+impl Solver for AlartCurnier {
+    fn name(&self) -> &'static str {
+        "alart_curnier"
+    }
+
+    fn signorini(&self) -> bool {
+        self.law.tangents == 0 || self.law.mu == 0.0
+    }
+
+    fn solve(
+        &mut self,
+        d: &DMatrix<f64>,
+        q: &[f64],
+        lambda: &mut [f64],
+    ) -> Result<SolveInfo, SolverError> {
+        let (loc, mut r) = Local::gather(&self.law, d, q, lambda)?;
+        let mut norm = residual(&loc, &r, false).0.norm();
+        for it in 0..=MAX_ITERATIONS {
+            if norm <= TOLERANCE * loc.scale(&r) {
+                loc.scatter(&self.law, &r, lambda);
+                return Ok(SolveInfo {
+                    iterations: it,
+                    active: loc.active(&r),
+                });
+            }
+            if it == MAX_ITERATIONS {
+                break;
+            }
+            let (f, jac) = residual(&loc, &r, true);
+            let jac = jac.ok_or(SolverError::Singular {
+                method: "alart_curnier",
+            })?;
+            let dr = jac.lu().solve(&(-f)).ok_or(SolverError::Singular {
+                method: "alart_curnier",
+            })?;
+            let mut t = 1.0;
+            for _ in 0..LINE_SEARCH {
+                let trial = residual(&loc, &(&r + t * &dr), false).0.norm();
+                if trial <= (1.0 - 1e-4 * t) * norm {
+                    break;
+                }
+                t *= 0.5;
+            }
+            if t < 0.5f64.powi(LINE_SEARCH as i32 - 1) {
+                t = 1.0;
+            }
+            r += t * &dr;
+            norm = residual(&loc, &r, false).0.norm();
+        }
+        Err(SolverError::NotConverged {
+            method: "alart_curnier",
+            detail: format!(
+                "residual {norm:.3e} (tolerance {:.3e}) after {MAX_ITERATIONS} Newton iterations \
+                 on {} points",
+                TOLERANCE * loc.scale(&r),
+                loc.points.len()
+            ),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testing::{two_points, violation};
+    use super::*;
+
+    #[test]
+    fn one_point_slides_with_the_coulomb_force() {
+        // W = I: pushed into the plane (q_N = −1) and along t (q_T = 2): r_N = 1, slip
+        // u_T = 2 + r_T with r_T = −μ r_N = −0.3.
+        let law = Coulomb {
+            mu: 0.3,
+            points: 1,
+            tangents: 1,
+        };
+        let w = DMatrix::identity(2, 2);
+        let mut r = [0.0; 2];
+        AlartCurnier::new(law)
+            .solve(&w, &[-1.0, 2.0], &mut r)
+            .unwrap();
+        assert!(
+            (r[0] - 1.0).abs() < 1e-12 && (r[1] + 0.3).abs() < 1e-12,
+            "{r:?}"
+        );
+    }
+
+    #[test]
+    fn one_point_sticks_inside_the_cone() {
+        let law = Coulomb {
+            mu: 0.5,
+            points: 1,
+            tangents: 1,
+        };
+        let w = DMatrix::identity(2, 2);
+        let mut r = [0.0; 2];
+        AlartCurnier::new(law)
+            .solve(&w, &[-1.0, 0.2], &mut r)
+            .unwrap();
+        assert!(
+            (r[0] - 1.0).abs() < 1e-12 && (r[1] + 0.2).abs() < 1e-12,
+            "{r:?}"
+        );
+    }
+
+    #[test]
+    fn coupled_points_satisfy_the_law() {
+        for mu in [0.0, 0.1, 0.5, 2.0] {
+            let (law, w) = two_points(mu);
+            for q in [
+                [-1.0, -0.5, 0.8, -0.1],
+                [-1.0, 0.5, 0.1, 3.0],
+                [0.2, 0.3, 1.0, 1.0],
+            ] {
+                let mut r = [0.0; 4];
+                AlartCurnier::new(law).solve(&w, &q, &mut r).unwrap();
+                assert!(
+                    violation(&law, &w, &q, &r) < 1e-10,
+                    "μ {mu}, q {q:?}: {r:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn three_d_point_slides_against_its_slip() {
+        let law = Coulomb {
+            mu: 0.4,
+            points: 1,
+            tangents: 2,
+        };
+        #[rustfmt::skip]
+        let w = DMatrix::from_row_slice(3, 3, &[
+            1.0, 0.1, 0.0,
+            0.1, 1.5, 0.2,
+            0.0, 0.2, 0.8,
+        ]);
+        let q = [-1.0, 1.0, -2.0];
+        let mut r = [0.0; 3];
+        AlartCurnier::new(law).solve(&w, &q, &mut r).unwrap();
+        assert!(violation(&law, &w, &q, &r) < 1e-10, "{r:?}");
+        let rt = (r[1] * r[1] + r[2] * r[2]).sqrt();
+        assert!(
+            (rt - 0.4 * r[0]).abs() < 1e-10,
+            "on the cone's boundary: {r:?}"
+        );
+    }
+}

@@ -1,0 +1,223 @@
+//! Coulomb friction with Signorini contact at the nodal points: the per-step problem and its
+//! exact solvers ([`alart_curnier`], [`projected_gauss_seidel`]).
+//!
+//! Local variables of contact point i (`notes/papers/friction.md` §0, after Siconos'
+//! `friction_contact.rst` lines 44–46): the relative "velocity" `u = (u_N, u_T)` (u_N > 0
+//! separates: the gap, or its rate; u_T the slip, or its rate, as the scheme measures it) and the
+//! reaction `r = (r_N, r_T)`, r_N ≥ 0 the pressure. After the predictor of a step,
+//! `u = q + W r` with W the Delassus operator of the stacked rows `[B_N; −B_T]`
+//! ([`crate::time::step::direct`]), and the law is
+//!
+//! `0 ≤ u_N ⊥ r_N ≥ 0`,  `‖r_T‖ ≤ μ r_N`,  `u_T ≠ 0 ⇒ r_T = −μ r_N u_T/‖u_T‖`.
+//!
+//! In 2D `r_T` lies in an interval (a box-constrained complementarity problem), in 3D in a disc
+//! (a second-order cone complementarity problem). No regularisation: the solvers return the
+//! exact law to their tolerance [`TOLERANCE`] on the Alart–Curnier residual, or an error.
+//!
+//! Row layout (the solvers' `q`, `λ`): the n_c normal rows first, then the tangential rows,
+//! point-major (`n_c + i (d − 1) + k`). A point whose normal `q_i` is `+∞` is excluded (r = 0).
+
+pub mod alart_curnier;
+pub mod projected_gauss_seidel;
+
+use super::Solver;
+use crate::error::{Error, Result, SolverError};
+use nalgebra::{DMatrix, DVector};
+
+/// Names of the friction solvers (also accepted, without friction, for Signorini's LCP).
+pub const SOLVERS: &[&str] = &["alart_curnier", "projected_gauss_seidel"];
+
+/// The solver of a friction run when `--contact-solver` is not given.
+pub const DEFAULT_SOLVER: &str = "alart_curnier";
+
+/// Relative tolerance on the Alart–Curnier residual `‖F(r)‖ ≤ TOLERANCE · scale`, with scale the
+/// largest of `‖r‖` and `‖ρ q‖` (a force).
+pub const TOLERANCE: f64 = 1e-11;
+
+/// The law at the contact points: coefficient μ, n_c points, d − 1 tangents per point
+/// (0: Signorini's law alone).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Coulomb {
+    /// μ ≥ 0.
+    pub mu: f64,
+    /// Contact points n_c.
+    pub points: usize,
+    /// Tangents per point (d − 1, or 0 without friction).
+    pub tangents: usize,
+}
+
+impl Coulomb {
+    /// Rows per point, 1 + tangents.
+    pub fn dim(&self) -> usize {
+        1 + self.tangents
+    }
+
+    /// The global row of local component `c` (0 normal, 1.. tangential) of point `i`.
+    pub fn row(&self, i: usize, c: usize) -> usize {
+        if c == 0 {
+            i
+        } else {
+            self.points + i * self.tangents + c - 1
+        }
+    }
+}
+
+/// The friction solver called `name` for `law`.
+pub fn by_name(name: &str, law: Coulomb) -> Result<Box<dyn Solver>> {
+    match name {
+        "alart_curnier" => Ok(Box::new(alart_curnier::AlartCurnier::new(law))),
+        "projected_gauss_seidel" => Ok(Box::new(
+            projected_gauss_seidel::ProjectedGaussSeidel::new(law),
+        )),
+        "active_set" | "clarabel" => Err(Error::invalid(
+            "run.contact_solver",
+            name,
+            &format!(
+                "solves the frictionless LCP; with friction use one of {}",
+                SOLVERS.join(", ")
+            ),
+        )),
+        _ => Err(Error::UnknownName {
+            kind: "friction solver",
+            name: name.to_string(),
+            known: SOLVERS.join(", "),
+        }),
+    }
+}
+
+/// The problem restricted to the points in the step (finite normal q), blocks of `dim` rows per
+/// point: `u = q + W r`, with `ρ` = 1/W_NN per point.
+pub(crate) struct Local {
+    pub points: Vec<usize>,
+    pub dim: usize,
+    pub mu: f64,
+    pub w: DMatrix<f64>,
+    pub q: DVector<f64>,
+    pub rho: Vec<f64>,
+}
+
+impl Local {
+    /// Gathers the points of `q` not excluded, with the warm start `lambda`.
+    pub fn gather(
+        law: &Coulomb,
+        d: &DMatrix<f64>,
+        q: &[f64],
+        lambda: &[f64],
+    ) -> std::result::Result<(Self, DVector<f64>), SolverError> {
+        let dim = law.dim();
+        let points: Vec<usize> = (0..law.points).filter(|&i| q[i].is_finite()).collect();
+        let k = points.len() * dim;
+        let rows: Vec<usize> = points
+            .iter()
+            .flat_map(|&i| (0..dim).map(move |c| law.row(i, c)))
+            .collect();
+        let w = DMatrix::from_fn(k, k, |a, b| d[(rows[a], rows[b])]);
+        let mut rho = Vec::with_capacity(points.len());
+        for p in 0..points.len() {
+            let wnn = w[(p * dim, p * dim)];
+            if wnn.is_nan() || wnn <= 0.0 {
+                return Err(SolverError::NotPositiveDefinite { pivot: wnn });
+            }
+            rho.push(1.0 / wnn);
+        }
+        let local = Self {
+            dim,
+            mu: law.mu,
+            q: DVector::from_fn(k, |a, _| q[rows[a]]),
+            w,
+            rho,
+            points,
+        };
+        let r = DVector::from_fn(k, |a, _| lambda[rows[a]]);
+        Ok((local, r))
+    }
+
+    /// Writes the local reaction `r` to the rows of `lambda` (0 on the excluded points).
+    pub fn scatter(&self, law: &Coulomb, r: &DVector<f64>, lambda: &mut [f64]) {
+        lambda.fill(0.0);
+        for (p, &i) in self.points.iter().enumerate() {
+            for c in 0..self.dim {
+                lambda[law.row(i, c)] = r[p * self.dim + c];
+            }
+        }
+    }
+
+    /// `u = q + W r`.
+    pub fn velocity(&self, r: &DVector<f64>) -> DVector<f64> {
+        &self.q + &self.w * r
+    }
+
+    /// The scale of the residual: the largest of `‖r‖` and `‖ρ q‖` (a force), or the smallest
+    /// positive number.
+    pub fn scale(&self, r: &DVector<f64>) -> f64 {
+        let rq = (0..self.q.len())
+            .map(|a| (self.rho[a / self.dim] * self.q[a]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        r.norm().max(rq).max(f64::MIN_POSITIVE)
+    }
+
+    /// Points with r_N > 0.
+    pub fn active(&self, r: &DVector<f64>) -> usize {
+        (0..self.points.len())
+            .filter(|&p| r[p * self.dim] > 0.0)
+            .count()
+    }
+}
+
+/// The projection of `x` (the `n` tangential components) onto the disc of radius `radius ≥ 0`.
+pub(crate) fn project_disc(x: &mut [f64], radius: f64) {
+    let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if norm > radius {
+        let s = if norm > 0.0 { radius / norm } else { 0.0 };
+        x.iter_mut().for_each(|v| *v *= s);
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod testing {
+    //! A 2D two-point problem with a known answer, shared by the solvers' tests.
+    use super::Coulomb;
+    use nalgebra::DMatrix;
+
+    /// Two points, one tangent each: rows `[N0, N1, T0, T1]`, W SPD with coupling.
+    pub fn two_points(mu: f64) -> (Coulomb, DMatrix<f64>) {
+        let law = Coulomb {
+            mu,
+            points: 2,
+            tangents: 1,
+        };
+        #[rustfmt::skip]
+        let w = DMatrix::from_row_slice(4, 4, &[
+            2.0, 0.5, 0.3, 0.1,
+            0.5, 2.0, 0.1, 0.3,
+            0.3, 0.1, 1.0, 0.2,
+            0.1, 0.3, 0.2, 1.0,
+        ]);
+        (law, w)
+    }
+
+    /// The largest violation of the law at the solution `r` of `u = q + W r` (rows as the
+    /// solvers'): negative gap or pressure, complementarity, cone, and slip against the force.
+    pub fn violation(law: &Coulomb, w: &DMatrix<f64>, q: &[f64], r: &[f64]) -> f64 {
+        let u: Vec<f64> = (0..q.len())
+            .map(|a| q[a] + (0..q.len()).map(|b| w[(a, b)] * r[b]).sum::<f64>())
+            .collect();
+        let mut worst: f64 = 0.0;
+        for i in 0..law.points {
+            let (un, rn) = (u[i], r[i]);
+            worst = worst.max(-un).max(-rn).max((un * rn).abs());
+            let ut: Vec<f64> = (1..law.dim()).map(|c| u[law.row(i, c)]).collect();
+            let rt: Vec<f64> = (1..law.dim()).map(|c| r[law.row(i, c)]).collect();
+            let nt = ut.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let nr = rt.iter().map(|x| x * x).sum::<f64>().sqrt();
+            worst = worst.max(nr - law.mu * rn);
+            if nt > 1e-12 {
+                for (a, b) in rt.iter().zip(&ut) {
+                    worst = worst.max((a + law.mu * rn * b / nt).abs());
+                }
+            }
+        }
+        worst
+    }
+}
