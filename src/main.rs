@@ -123,6 +123,10 @@ enum Command {
         /// Final time.
         #[arg(long = "t-end", allow_negative_numbers = true)]
         t_end: Option<f64>,
+        /// Coulomb friction coefficient μ at the plane (2D/3D body cases; 0: frictionless),
+        /// replacing the case's `[contact] friction`.
+        #[arg(long, allow_negative_numbers = true)]
+        friction: Option<f64>,
         /// Output directory.
         #[arg(long, default_value = "out")]
         out: PathBuf,
@@ -284,6 +288,7 @@ fn main_result(cli: Cli) -> Result<()> {
             mesh,
             dt,
             t_end,
+            friction,
             out,
             vtu,
             vtu_every,
@@ -298,6 +303,7 @@ fn main_result(cli: Cli) -> Result<()> {
                 mesh,
                 dt,
                 t_end,
+                friction,
             };
             let case = cases::load(&case, &overrides)?;
             let fields = vtu.map(|dir| run::FieldOutput {

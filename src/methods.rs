@@ -50,6 +50,15 @@ impl Options {
         self.contact_solver.as_deref().unwrap_or("active_set")
     }
 
+    /// The contact solver of a run with or without Coulomb friction: the one set, else
+    /// `active_set`, or with friction [`crate::contact::friction::DEFAULT_SOLVER`].
+    pub fn contact_solver_with(&self, friction: bool) -> &str {
+        match (&self.contact_solver, friction) {
+            (None, true) => crate::contact::friction::DEFAULT_SOLVER,
+            _ => self.contact_solver(),
+        }
+    }
+
     /// Linear solver name (default `auto`).
     pub fn linear_solver(&self) -> &str {
         self.linear_solver.as_deref().unwrap_or("auto")

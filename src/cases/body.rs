@@ -4,12 +4,16 @@
 //!   a finer mesh and time step (see the report);
 //! - `hertz3d` / `hertz2d`: a sphere / a disc (plane strain) touching the plane at t = 0, checked
 //!   against Hertz theory ([`crate::exact::hertz`], `shared/reference/hertz_impact.md`);
-//! - `disc2d`: GetFEM's demo disc falling under gravity.
+//! - `disc2d`: GetFEM's demo disc falling under gravity;
+//! - `slide2d` / `slide3d`: a box resting on the plane under gravity, launched along the first
+//!   axis (`tangential_velocity`), with Coulomb friction (`[contact] friction = μ`): its centre
+//!   of mass against the rigid-body slide ([`crate::exact::slide`]).
 //!
 //! The case holds only physics: material, geometry (or a Gmsh file), initial state, the obstacle;
 //! [`Discretisation`] turns it into matrices. Isotropic linear elasticity, no Dirichlet condition.
-//! Contact with the plane at the vertices of Γ_C (normal dofs only, frictionless): `B_N U = −u_d`
-//! and `g = x_d + lift + u_d ≥ 0` at each vertex. Initial state: undeformed, uniform vertical
+//! Contact with the plane at the vertices of Γ_C: `B_N U = −u_d` and `g = x_d + lift + u_d ≥ 0`
+//! at each vertex; frictionless unless `[contact] friction = μ > 0` (or `--friction μ`), which
+//! adds the tangential rows of [`Discretisation::friction`]. Initial state: undeformed, uniform vertical
 //! velocity; optional gravity.
 
 use super::sweep::SweepSpec;
@@ -17,6 +21,7 @@ use super::{Case, FieldError, Overrides, RunSpec};
 use crate::element::reference::{RefElement, Shape};
 use crate::error::{positive, Error, Result};
 use crate::exact::hertz::Hertz;
+use crate::exact::slide::Slide;
 use crate::exact::ExactContact;
 use crate::fem::discretisation::{Discretisation, Initial};
 use crate::fem::elasticity::Lame;
@@ -55,6 +60,9 @@ pub struct Geometry {
     pub radius: Option<f64>,
     /// Initial vertical velocity (negative: towards the plane).
     pub velocity: f64,
+    /// Initial velocity along the first axis, tangential to the plane (the slide cases).
+    #[serde(default)]
+    pub tangential_velocity: f64,
     /// Initial gap between Γ_C and the plane (≥ 0).
     #[serde(default)]
     pub lift: f64,
@@ -95,6 +103,9 @@ pub struct ContactSpec {
     /// Generated meshes: faces whose outward normal has `n_d < −facing` (default 0.01).
     #[serde(default)]
     pub facing: Option<f64>,
+    /// Coulomb friction coefficient μ ≥ 0 at the plane (default 0: frictionless).
+    #[serde(default)]
+    pub friction: Option<f64>,
 }
 
 fn default_shape() -> String {
@@ -114,6 +125,8 @@ pub const KINDS: &[(&str, usize)] = &[
     ("hertz2d", 2),
     ("hertz3d", 3),
     ("disc2d", 2),
+    ("slide2d", 2),
+    ("slide3d", 3),
 ];
 
 /// The whole case file of an elastic body.
@@ -153,6 +166,10 @@ pub struct Body {
     pub hertz: Option<Hertz>,
     /// Geometry and initial state.
     pub geometry: Geometry,
+    /// Coulomb friction coefficient μ at the plane (0: frictionless).
+    pub friction: f64,
+    /// The rigid-body slide of the centre of mass (`slide2d`, `slide3d`).
+    pub slide: Option<Slide>,
     run: RunSpec,
     sweeps: Vec<SweepSpec>,
     /// Time histories for the report.
@@ -341,6 +358,11 @@ impl Body {
         check_material(m)?;
         let g = &spec.geometry;
         crate::error::finite("geometry.velocity", g.velocity)?;
+        crate::error::finite("geometry.tangential_velocity", g.tangential_velocity)?;
+        let friction = match o.friction.or(spec.contact.friction) {
+            Some(mu) => crate::error::non_negative("contact.friction", mu)?,
+            None => 0.0,
+        };
         crate::error::non_negative("geometry.lift", g.lift)?;
         crate::error::non_negative("geometry.gravity", g.gravity)?;
         let (mesh, rule) = build_mesh(&spec, o, kind, dim)?;
@@ -371,6 +393,18 @@ impl Body {
         } else {
             None
         };
+        let slide = if kind.starts_with("slide") {
+            if g.velocity != 0.0 || g.lift != 0.0 {
+                return Err(Error::invalid(
+                    "geometry.velocity",
+                    g.velocity,
+                    "a slide starts at rest on the plane (velocity = 0, lift = 0)",
+                ));
+            }
+            Some(Slide::new(g.tangential_velocity, g.gravity, friction)?)
+        } else {
+            None
+        };
         let mut run = spec.run;
         o.apply(&mut run);
         run.validate()?;
@@ -390,6 +424,8 @@ impl Body {
             )?,
             hertz,
             geometry: spec.geometry,
+            friction,
+            slide,
             run,
             sweeps: spec.sweep,
             history: spec.history,
@@ -417,12 +453,20 @@ impl Case for Body {
         let initial = Initial {
             displacement: vec![0.0; fem.n_dofs()],
             velocity: fem.interpolate(|_| {
-                std::array::from_fn(|k| if k == d - 1 { g.velocity } else { 0.0 })
+                std::array::from_fn(|k| match k {
+                    k if k == d - 1 => g.velocity,
+                    0 => g.tangential_velocity,
+                    _ => 0.0,
+                })
             }),
             gravity: Some(g.gravity),
             lift: g.lift,
         };
-        fem.problem(|m| space.inertia(m), &initial)
+        let mut problem = fem.problem(|m| space.inertia(m), &initial)?;
+        if self.friction > 0.0 {
+            problem.contact.friction = Some(fem.friction(self.friction)?);
+        }
+        Ok(problem)
     }
 
     fn exact(&self) -> Option<&dyn ExactContact> {

@@ -361,6 +361,8 @@ pub struct Overrides {
     pub dt: Option<f64>,
     /// `--t-end`.
     pub t_end: Option<f64>,
+    /// `--friction`: the Coulomb coefficient μ of a 2D/3D body case (its `[contact] friction`).
+    pub friction: Option<f64>,
 }
 
 impl Overrides {
@@ -417,6 +419,8 @@ pub const CASES: &[&str] = &[
     "hertz2d",
     "hertz3d",
     "disc2d",
+    "slide2d",
+    "slide3d",
     "two_bars",
 ];
 
@@ -430,7 +434,7 @@ struct Header {
 enum Spec {
     Bar1d(bar1d::Bar1dSpec),
     BarFlight(bar_flight::BarFlightSpec),
-    Body(body::BodySpec),
+    Body(Box<body::BodySpec>),
     SpringMass(spring_mass::SpringMassSpec),
     TwoBars(two_bars::TwoBarsSpec),
 }
@@ -467,13 +471,13 @@ impl CaseFile {
         let spec = match header.case.as_str() {
             "bar1d" => Spec::Bar1d(spec_from_str(&text, path)?),
             "bar_flight" => Spec::BarFlight(spec_from_str(&text, path)?),
-            "block2d" | "block3d" | "hertz2d" | "hertz3d" | "disc2d" => {
+            "block2d" | "block3d" | "hertz2d" | "hertz3d" | "disc2d" | "slide2d" | "slide3d" => {
                 let mut spec: body::BodySpec = spec_from_str(&text, path)?;
                 // A mesh file is relative to the case file's directory.
                 if let (Some(f), Some(dir)) = (&spec.mesh.file, path.parent()) {
                     spec.mesh.file = Some(dir.join(f));
                 }
-                Spec::Body(spec)
+                Spec::Body(Box::new(spec))
             }
             "spring_mass" => Spec::SpringMass(spec_from_str(&text, path)?),
             "two_bars" => Spec::TwoBars(spec_from_str(&text, path)?),
@@ -507,11 +511,11 @@ impl CaseFile {
         let (refused, why): (&[&str], &str) = match self.spec {
             Spec::Body(_) => (&[], ""),
             Spec::Bar1d(_) | Spec::BarFlight(_) | Spec::TwoBars(_) => (
-                &["--mesh", "--cells"],
+                &["--mesh", "--cells", "--friction"],
                 "applies to the 2D/3D body cases only",
             ),
             Spec::SpringMass(_) => (
-                &["--mesh", "--cells", "--elements", "--degree"],
+                &["--mesh", "--cells", "--elements", "--degree", "--friction"],
                 "applies to meshed cases only: spring_mass has one dof",
             ),
         };
@@ -520,6 +524,7 @@ impl CaseFile {
             ("--cells", o.cells.clone()),
             ("--elements", o.elements.map(|n| n.to_string())),
             ("--degree", o.degree.map(|n| n.to_string())),
+            ("--friction", o.friction.map(|m| m.to_string())),
         ];
         if let Some((flag, value)) = given
             .into_iter()
@@ -533,7 +538,7 @@ impl CaseFile {
             Spec::BarFlight(s) => {
                 Box::new(bar_flight::BarFlightCase::from_spec(s.clone(), overrides)?)
             }
-            Spec::Body(s) => Box::new(body::Body::from_spec(s.clone(), overrides)?),
+            Spec::Body(s) => Box::new(body::Body::from_spec((**s).clone(), overrides)?),
             Spec::SpringMass(s) => Box::new(spring_mass::SpringMassCase::from_spec(
                 s.clone(),
                 overrides,

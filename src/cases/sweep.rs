@@ -201,5 +201,6 @@ fn combination(
         mesh: None,
         dt: Some(level.dt),
         t_end,
+        friction: None,
     }
 }

@@ -1,6 +1,8 @@
 //! Nodal contact (the default): one multiplier per vertex of Γ_C, the Signorini conditions
 //! `g_i = g₀_i − (B_N U)_i ≥ 0, λ_i ≥ 0, λ_i g_i = 0` at each vertex, λ_i the nodal force, solved
-//! exactly per step by the LCP solver (Khenous, Laborde, Renard 2008; DESIGN.md §1).
+//! exactly per step by the LCP solver (Khenous, Laborde, Renard 2008; DESIGN.md §1). With
+//! Coulomb friction, the tangential rows at the same vertices and a friction solver
+//! ([`super::friction`]).
 
 use super::{Formulation, Solver};
 use crate::error::Result;
@@ -24,6 +26,21 @@ impl Formulation for Nodal {
     }
 
     fn setup(&self, problem: &mut Problem, solver: &str) -> Result<Box<dyn Solver>> {
-        super::by_name(solver, problem.contact.len())
+        let points = problem.contact.len();
+        match &problem.contact.friction {
+            None => super::by_name(solver, points),
+            Some(f) => super::friction::by_name(
+                solver,
+                super::friction::Coulomb {
+                    mu: f.mu,
+                    points,
+                    tangents: f.tangents,
+                },
+            ),
+        }
+    }
+
+    fn friction(&self) -> bool {
+        true
     }
 }

@@ -249,6 +249,7 @@ impl Bodies {
             force: None,
             normal: None,
             energy: Vec::new(),
+            friction: None,
         })
     }
 

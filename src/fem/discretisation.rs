@@ -24,7 +24,7 @@ use crate::fem::elasticity::{
 use crate::fem::mass_model::{ElementMass, ElementMixed, MassModel, VelocitySpace};
 use crate::linalg::{SpMat, TripletBuilder};
 use crate::mesh::{ContactRule, Face, Mesh};
-use crate::problem::{Contact, ContactFace, Inertia, Probe, Problem};
+use crate::problem::{Contact, ContactFace, Friction, Inertia, Probe, Problem};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
@@ -390,6 +390,32 @@ impl Discretisation {
             force: None,
             normal: None,
             energy: Vec::new(),
+            friction: None,
+        })
+    }
+
+    /// Coulomb friction with coefficient `mu` at the vertices of Γ_C on the plane `x_d = 0`:
+    /// the tangents are the first d − 1 axes, `B_T` row `r (d − 1) + k` picks component k of
+    /// vertex r (in [`Discretisation::contact_vertices`] order).
+    pub fn friction(&self, mu: f64) -> Result<Friction> {
+        let tangents = self.dim() - 1;
+        let mut b_t = TripletBuilder::new(self.contact_vertices.len() * tangents, self.n_dofs());
+        for (r, &(i, _)) in self.contact_vertices.iter().enumerate() {
+            for k in 0..tangents {
+                b_t.add(r * tangents + k, self.dof(i, k), 1.0);
+            }
+        }
+        let mut translation = vec![0.0; self.n_dofs()];
+        for i in 0..self.mesh.nodes.len() {
+            if let Some(dof) = self.dofs.get(i, 0) {
+                translation[dof] = 1.0;
+            }
+        }
+        Ok(Friction {
+            mu,
+            b_t: b_t.build()?,
+            tangents,
+            translation,
         })
     }
 

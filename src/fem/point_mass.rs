@@ -71,6 +71,7 @@ impl PointMass {
                 force: None,
                 normal: None,
                 energy: Vec::new(),
+                friction: None,
             },
             u0: vec![initial.displacement],
             v0: vec![initial.velocity],

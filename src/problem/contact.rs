@@ -32,6 +32,26 @@ pub struct Contact {
     /// Energy stored in the contact rows, part of the conserved energy (Nitsche's boundary
     /// energy).
     pub energy: Vec<ContactEnergy>,
+    /// Coulomb friction at the contact points (None: frictionless).
+    pub friction: Option<Friction>,
+}
+
+/// Coulomb friction with coefficient μ at the nodal contact points: the tangential rows
+/// `B_T` (n_c·(d − 1) × n, point-major: row `i (d − 1) + k` is the displacement of point i along
+/// the tangent t_k of the plane) beside the normal rows `B_N`. The reaction `r_T` of point i acts
+/// on the body as `+B_Tᵀ r_T` and obeys `|r_T| ≤ μ λ_N`, `r_T = −μ λ_N s/|s|` when its slip
+/// `s ≠ 0` (the slip each scheme measures is said in its file).
+#[derive(Debug, Clone)]
+pub struct Friction {
+    /// Friction coefficient μ > 0.
+    pub mu: f64,
+    /// `B_T`.
+    pub b_t: SpMat,
+    /// Tangents per point, d − 1.
+    pub tangents: usize,
+    /// The unit translation of the body along the first tangent (dof layout of U): the
+    /// centre of mass's tangential velocity is `(M̃1)ᵀV / 1ᵀM̃1`.
+    pub translation: Vec<f64>,
 }
 
 /// A quadrature point `x_q` of Γ_C for boundary integrals (Nitsche's method,

@@ -70,6 +70,8 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("force_contact", "case (force)", "total contact force Σλ (per unit thickness in 2D)"),
     ("approach", "case (length)", "displacement of the centre of mass towards the plane (curved bodies)"),
     ("momentum", "case (mass·length/time)", "total linear momentum `(M̃1)ᵀV` along the line of impact, with the space's own mass (two-body cases)"),
+    ("com_velocity_t", "case (length/time)", "velocity of the centre of mass along the first tangent of the plane, `(M̃1)ᵀV / 1ᵀM̃1` with the space's own mass (runs with friction)"),
+    ("friction_work", "case (energy)", "work dissipated by Coulomb friction so far, `W_f = Σ −r_T · u_T ≥ 0` on the slip each scheme measures (runs with friction); `energy + friction_work` is E(0) for an energy-conserving scheme"),
     ("u_contact_exact", "case (length)", "exact `u_contact`"),
     ("sigma_contact_exact", "case (stress)", "exact `sigma_contact`"),
     ("energy_exact", "case (energy)", "exact `energy`"),
@@ -97,6 +99,7 @@ const DOCS: &[(&str, &str, &str)] = &[
 fn files() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
     let mut timeseries: Vec<&str> = trajectory::TIMESERIES_COLUMNS.to_vec();
     timeseries.extend(["approach", "momentum"]);
+    timeseries.extend(trajectory::FRICTION_COLUMNS);
     timeseries.extend(trajectory::EXACT_COLUMNS);
     vec![
         (
@@ -136,7 +139,7 @@ fn files() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
         ),
         (
             "timeseries.csv (dyncontact run)",
-            "one row per sample (every step and t = 0); `approach` for curved bodies, `momentum` for two-body cases, the `_exact` columns when the case has an exact solution",
+            "one row per sample (every step and t = 0); `approach` for curved bodies, `momentum` for two-body cases, `com_velocity_t` and `friction_work` for runs with friction, the `_exact` columns when the case has an exact solution",
             timeseries,
         ),
         (

@@ -14,6 +14,11 @@
 //! 1D P1 keeps the total mass only (one node left: `M̃ = [[0, 0], [0, ρh]]`); 1D P2 keeps total
 //! mass, first and second moment (two nodes left, three unknowns). Kept moments sum over elements,
 //! so the global `M̃` keeps them too.
+//!
+//! Only the normal component of the contact nodes is made massless (their contact dofs are the
+//! normal ones): the tangential components keep their inertia, and every moment above holds for
+//! them too. With Coulomb friction ([`crate::problem::Friction`]) the tangential rows therefore
+//! act on dofs with mass, as in the standard space; only the normal inertia is removed.
 
 use super::sparse_mass::SparseMass;
 use super::{MassModel, Space};

@@ -416,6 +416,7 @@ mod tests {
                 force_contact: 0.0,
                 approach: None,
                 momentum: None,
+                friction: None,
                 exact: Some((0.0, 0.0, 0.0)),
             })
             .collect()

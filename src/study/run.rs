@@ -157,7 +157,9 @@ pub fn run_with_output(
     let formulation = crate::contact::formulation(&spec.options)?;
     let mut problem = case.problem(space.as_ref())?;
     formulation.check_scheme(scheme.name(), scheme.enforcement())?;
-    let solver = formulation.setup(&mut problem, spec.options.contact_solver())?;
+    crate::time::check_friction(&problem, scheme.as_ref(), formulation.as_ref())?;
+    let friction = problem.contact.friction.is_some();
+    let solver = formulation.setup(&mut problem, spec.options.contact_solver_with(friction))?;
     let field = case.field_error();
     let exact = case.exact();
     let impact = case.impact();
@@ -179,6 +181,7 @@ pub fn run_with_output(
             energy: problem.energy_form(),
             centre: impact.as_ref().map(|i| i.centre.clone()),
             translation: case.momentum().map(|t| (t, vec![0.0; problem.n()])),
+            slide: friction.then(|| slide_direction(problem)),
         };
         let sampler = scope.spawn(move || -> Result<_> {
             let mut rows: Vec<Row> = Vec::with_capacity(steps + 1);
@@ -319,6 +322,7 @@ struct Snapshot {
     energy_u: Option<Vec<f64>>,
     lambda: Vec<f64>,
     extra_energy: f64,
+    friction_work: f64,
 }
 
 impl Snapshot {
@@ -329,6 +333,7 @@ impl Snapshot {
         };
         self.t = s.t;
         self.extra_energy = s.extra_energy;
+        self.friction_work = s.friction_work;
         copy(&mut self.u, s.u);
         copy(&mut self.v, s.v);
         copy(&mut self.lambda, s.lambda);
@@ -348,6 +353,7 @@ impl Snapshot {
             energy_u: self.energy_u.as_deref().unwrap_or(&self.u),
             lambda: &self.lambda,
             extra_energy: self.extra_energy,
+            friction_work: self.friction_work,
         }
     }
 }
@@ -409,6 +415,30 @@ struct Probe {
     centre: Option<Vec<(usize, f64)>>,
     /// The unit translation `1_d` of a multi-body case and a buffer for `M̃V`.
     translation: Option<(Vec<f64>, Vec<f64>)>,
+    /// With friction: the unit translation along the first tangent with its buffer, and the
+    /// mass `1ᵀM̃1` (the centre of mass's velocity is `(M̃1)ᵀV / 1ᵀM̃1`).
+    slide: Option<Slide>,
+}
+
+/// The unit translation along the first tangent of the plane, a buffer for `M̃V`, the mass
+/// `1ᵀM̃1`.
+type Slide = ((Vec<f64>, Vec<f64>), f64);
+
+/// The translation along the first tangent ([`crate::problem::Friction::translation`]), its
+/// buffer and the mass it carries, `1ᵀM̃1`.
+fn slide_direction(problem: &Problem) -> Slide {
+    let one = problem
+        .contact
+        .friction
+        .as_ref()
+        .map_or_else(|| vec![0.0; problem.n()], |f| f.translation.clone());
+    let inertial = problem
+        .inertia
+        .project(&one)
+        .unwrap_or_else(|_| one.clone());
+    let mut t = (one, vec![0.0; problem.n()]);
+    let mass = momentum(problem, &mut t, &inertial);
+    (t, mass)
 }
 
 /// The momentum `(M̃1_d)ᵀV = 1_dᵀ(Lᵀv)`: the inertial force of the inertial velocity v
@@ -444,6 +474,10 @@ fn probe_row(
             .translation
             .as_mut()
             .map(|t| momentum(problem, t, s.v)),
+        friction: probe
+            .slide
+            .as_mut()
+            .map(|(t, mass)| (momentum(problem, t, s.v) / *mass, s.friction_work)),
         exact: exact.map(|e| {
             let c = e.contact(s.t);
             (c.u, c.sigma, e.energy(s.t))

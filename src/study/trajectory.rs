@@ -3,7 +3,9 @@
 //! `timeseries.csv`: `t, u_contact, v_contact, sigma_contact, energy, gap, force_contact` (the total
 //! contact force Σλ), then `approach` (the centre of mass's displacement towards the plane) for
 //! the curved-body cases, `momentum` (the total linear momentum `(M̃1_d)ᵀV` along the line of
-//! impact, with the space's own mass) for the multi-body cases and, when the case has an exact
+//! impact, with the space's own mass) for the multi-body cases, `com_velocity_t` (the centre of
+//! mass's velocity along the first tangent of the plane) and `friction_work` (`W_f ≥ 0`, the
+//! work dissipated by Coulomb friction) for the runs with friction and, when the case has an exact
 //! solution,
 //! `u_contact_exact, sigma_contact_exact, energy_exact`. `sigma_contact` is the
 //! normal contact stress σ_N = −λ/area (compression negative). Units are those of the case file
@@ -35,6 +37,9 @@ pub struct Row {
     pub approach: Option<f64>,
     /// Total linear momentum `(M̃1_d)ᵀV` along the line of impact (multi-body cases).
     pub momentum: Option<f64>,
+    /// With friction: the centre of mass's velocity along the first tangent and the friction
+    /// work `W_f` so far.
+    pub friction: Option<(f64, f64)>,
     /// Exact `(u, σ_N, E)` at the contact point, when the case has an exact solution.
     pub exact: Option<(f64, f64, f64)>,
 }
@@ -69,6 +74,8 @@ pub const TIMESERIES_COLUMNS: &[&str] = &[
     "gap",
     "force_contact",
 ];
+/// Friction columns of `timeseries.csv` (runs with friction only).
+pub const FRICTION_COLUMNS: &[&str] = &["com_velocity_t", "friction_work"];
 /// Exact-solution columns of `timeseries.csv`.
 pub const EXACT_COLUMNS: &[&str] = &["u_contact_exact", "sigma_contact_exact", "energy_exact"];
 /// Writes `timeseries.csv`.
@@ -76,12 +83,16 @@ pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
     let exact = rows.first().is_some_and(|r| r.exact.is_some());
     let approach = rows.first().is_some_and(|r| r.approach.is_some());
     let momentum = rows.first().is_some_and(|r| r.momentum.is_some());
+    let friction = rows.first().is_some_and(|r| r.friction.is_some());
     let mut header = TIMESERIES_COLUMNS.to_vec();
     if approach {
         header.push("approach");
     }
     if momentum {
         header.push("momentum");
+    }
+    if friction {
+        header.extend_from_slice(FRICTION_COLUMNS);
     }
     if exact {
         header.extend_from_slice(EXACT_COLUMNS);
@@ -101,6 +112,9 @@ pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
             ];
             v.extend(r.approach);
             v.extend(r.momentum);
+            if let Some((c, w)) = r.friction {
+                v.extend([c, w]);
+            }
             if let Some((u, s, e)) = r.exact {
                 v.extend([u, s, e]);
             }

@@ -6,6 +6,10 @@
 //! First order and dissipative: multiplying by `U_{n+1} − Uₙ` gives
 //! `E_{n+1} − Eₙ = −½‖v_{n+1} − vₙ‖²_M − ½‖U_{n+1} − Uₙ‖²_K − λ_{n+1}·gₙ ≤ 0`
 //! (the contact force only works on a gap that closes). Hairer & Wanner, Solving ODEs II.
+//!
+//! Coulomb friction: `+ Δt² B_Tᵀ r_T`, the law at t_{n+1} on the slip increment
+//! `Δs = B_T (U_{n+1} − Uₙ)`; the same product gives `E_{n+1} + W_{f,n+1} ≤ Eₙ + W_{f,n}` with
+//! `W_{f,n+1} − W_{f,n} = −r_T · Δs ≥ 0`: the friction work never exceeds the energy lost.
 
 use super::scheme::{Integrator, Scheme, State, StepInfo};
 use super::step::ContactStep;
@@ -33,6 +37,10 @@ impl Scheme for BackwardEuler {
 
     fn enforcement(&self) -> Enforcement {
         Enforcement::Position
+    }
+
+    fn friction(&self) -> Option<&'static str> {
+        Some(super::step::friction::POSITION_SLIP)
     }
 
     fn prepare<'p>(

@@ -164,6 +164,7 @@ impl Integrator for PenaltyIntegrator<'_> {
     fn state(&self) -> State<'_> {
         State {
             extra_energy: self.energy,
+            friction_work: 0.0,
             ..self.x.state()
         }
     }

@@ -380,6 +380,7 @@ impl Integrator for HltIntegrator<'_> {
     fn state(&self) -> State<'_> {
         State {
             extra_energy: self.phi,
+            friction_work: 0.0,
             ..self.s.state(&self.s.u)
         }
     }

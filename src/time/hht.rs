@@ -6,6 +6,8 @@
 //! stable, dissipating the high frequencies more as |α| grows; α = 0 is Newmark(¼, ½). The contact
 //! pressure is not weighted by α (impenetrability is imposed at t_{n+1}). Implemented by the
 //! shared Newmark integrator in inertial variables ([`super::newmark`]).
+//! Coulomb friction as Newmark's: the friction force at t_{n+1} (unweighted, as the pressure) on
+//! the slip increment `Δs = B_T (U_{n+1} − Uₙ)`.
 
 use super::newmark::{Newmark, NewmarkIntegrator};
 use super::scheme::{Integrator, Scheme};
@@ -59,6 +61,10 @@ impl Scheme for Hht {
 
     fn enforcement(&self) -> Enforcement {
         Enforcement::Position
+    }
+
+    fn friction(&self) -> Option<&'static str> {
+        Some(super::step::friction::POSITION_SLIP)
     }
 
     fn prepare<'p>(

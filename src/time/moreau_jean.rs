@@ -11,6 +11,13 @@
 //! conserve the energy `½ V·MV + ½ UᵀKU − FᵀU` exactly (the impulse does no work when
 //! `ġ_{n+1} = −ġₙ`). Penetration is O(Δt), not zero: the law holds on velocities. With the
 //! singular dynamic method the inertial variable is the H_h velocity `C⁻¹ B V`.
+//!
+//! Coulomb friction (its natural home; Siconos `event_capturing.rst` lines 519–549,
+//! `notes/papers/friction.md` §3): `+ B_Tᵀ P_T` beside the normal impulse, the law on the
+//! index set between the impulse and the end-of-step slip velocity `u_T = B_T V_{n+1}` (no
+//! tangential restitution). The friction work reported is `Σ −P_T · u_{T,n+1} ≥ 0`; the scheme's
+//! energy identity holds the θ-weighted `P · V_θ` instead, so `E + W_f` is not conserved
+//! exactly (exactly only when `P_T · (V_{T,n+1} − V_{T,n}) = 0`, e.g. steady sliding with θ = 1).
 
 use super::paoli_schatzman::RESTITUTION;
 use super::scheme::{Integrator, Scheme, State, StepInfo};
@@ -67,6 +74,10 @@ impl Scheme for MoreauJean {
 
     fn enforcement(&self) -> Enforcement {
         Enforcement::Impact
+    }
+
+    fn friction(&self) -> Option<&'static str> {
+        Some(super::step::friction::VELOCITY_SLIP)
     }
 
     fn prepare<'p>(
@@ -137,13 +148,24 @@ impl Integrator for MoreauJeanIntegrator<'_> {
             .apply_add(&mut self.s.rhs, &self.s.v, 1.0);
         linalg::axpy(&mut self.s.u, (1.0 - th) * dt, &self.vel);
         let at = self.s.next();
+        let (offset, impulse) = match self.s.friction.as_mut() {
+            None => (&self.offset, &mut self.impulse),
+            Some(f) => {
+                f.velocity(&self.offset);
+                (&f.offset, &mut f.reaction)
+            }
+        };
         let info = self.s.system.solve(
             self.s.problem,
-            (&self.s.rhs, &self.offset),
+            (&self.s.rhs, offset),
             (&mut self.vel, &mut self.s.v),
-            &mut self.impulse,
+            impulse,
             at,
         )?;
+        if let Some(f) = self.s.friction.as_mut() {
+            f.dissipate(&self.vel);
+            self.impulse.copy_from_slice(f.normal());
+        }
         linalg::axpy(&mut self.s.u, th * dt, &self.vel);
         for (l, p) in self.s.lambda.iter_mut().zip(&self.impulse) {
             *l = p / dt;

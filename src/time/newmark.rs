@@ -10,6 +10,9 @@
 //! - `a_{n+1} = (w_{n+1} − w̃)/(β Δt²)`, `v_{n+1} = vₙ + Δt ((1 − γ) aₙ + γ a_{n+1})`.
 //!
 //! Newmark (1959); with contact: Khenous, Laborde, Renard (2008), Eur. J. Mech. A/Solids 27.
+//!
+//! Coulomb friction: `+ β Δt² B_Tᵀ r_T` beside the pressure, the law at t_{n+1} on the slip
+//! increment `Δs = B_T (U_{n+1} − Uₙ)` ([`super::step::friction`]).
 
 use super::scheme::{Integrator, Scheme, State, StepInfo};
 use super::step::ContactStep;
@@ -68,6 +71,10 @@ impl Scheme for Newmark {
 
     fn enforcement(&self) -> Enforcement {
         Enforcement::Position
+    }
+
+    fn friction(&self) -> Option<&'static str> {
+        Some(super::step::friction::POSITION_SLIP)
     }
 
     fn prepare<'p>(

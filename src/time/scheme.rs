@@ -37,6 +37,8 @@ pub struct State<'a> {
     /// Energy stored by the scheme's own contact law (a penalty energy `½ κ [−g]₊²`), added to
     /// the problem's energy (evaluated at `energy_u`, `v`) in the reported energy; 0 otherwise.
     pub extra_energy: f64,
+    /// Work of the friction forces so far, `W_f ≥ 0` (0 without friction).
+    pub friction_work: f64,
 }
 
 /// A prepared scheme on one problem.
@@ -53,6 +55,10 @@ pub trait Scheme: std::fmt::Debug + Send + Sync {
     fn name(&self) -> &'static str;
     /// How the step imposes the contact law (formulations refuse by it).
     fn enforcement(&self) -> Enforcement;
+    /// With Coulomb friction: the slip its law is posed on (None: friction is refused).
+    fn friction(&self) -> Option<&'static str> {
+        None
+    }
     /// Assembles and factors once; the returned integrator starts from `(U₀, V₀)`.
     fn prepare<'p>(
         &self,
@@ -102,4 +108,29 @@ pub(crate) fn check_finite(x: &[f64], step: usize, time: f64, what: &str) -> Res
             reason: format!("{what} is not finite"),
         })
     }
+}
+
+/// Refuses Coulomb friction on `problem` unless both the scheme and the formulation take it.
+pub fn check_friction(
+    problem: &Problem,
+    scheme: &dyn Scheme,
+    formulation: &dyn contact::Formulation,
+) -> Result<()> {
+    if problem.contact.friction.is_none() {
+        return Ok(());
+    }
+    if !formulation.friction() {
+        return Err(Error::Unsupported(format!(
+            "Coulomb friction is implemented on the nodal contact rows only, not with contact = \"{}\"",
+            formulation.name()
+        )));
+    }
+    if scheme.friction().is_none() {
+        return Err(Error::Unsupported(format!(
+            "Coulomb friction is implemented in the implicit position-level schemes (newmark, hht, \
+             backward_euler) and moreau_jean, not in {}",
+            scheme.name()
+        )));
+    }
+    Ok(())
 }

@@ -7,7 +7,10 @@
 //! velocity term for Moreau–Jean; `o_i = +∞` excludes point i from the step.
 //! Only the columns of D (and Z) of the points that come into contact are formed, the first time
 //! they enter a step's working set ([`DirectStep::solve_with`]): on a 3D body most points of Γ_C
-//! never touch. `Z`'s columns are kept while their entries stay within [`STORE_Z_LIMIT`] (for a
+//! never touch. With Coulomb friction ([`crate::problem::Friction`]) the rows are stacked,
+//! `[B_N; −B_T]` both as law and force rows (the force `−c B_N^T λ_N + c B_T^T r_T`), so that
+//! the law sees `u_N = o_N − B_N X` and `u_T = o_T + B_T X` (the slip, with the scheme's offset
+//! `o_T`); a point enters and leaves the working set with all its rows. `Z`'s columns are kept while their entries stay within [`STORE_Z_LIMIT`] (for a
 //! sparse mass its inertial part is `Z` itself and is not stored twice); otherwise the corrected
 //! state is obtained by a second solve.
 
@@ -54,6 +57,9 @@ pub struct DirectStep {
     /// Sizes of U and of the inertial variables.
     n: usize,
     nw: usize,
+    /// Contact points (the first `points` rows are the normal ones) and tangents per point.
+    points: usize,
+    tangents: usize,
 }
 
 impl DirectStep {
@@ -78,7 +84,20 @@ impl DirectStep {
         solver: Box<dyn Solver>,
     ) -> Result<Self> {
         let op = problem.inertia.step_operator(k, m_coef, k_coef)?;
-        let (n, nw, nc) = (problem.n(), problem.inertia.dim(), problem.contact.len());
+        let (n, nw, points) = (problem.n(), problem.inertia.dim(), problem.contact.len());
+        let mut b_rows = linalg::rows(&problem.contact.b_n);
+        let mut f_rows = linalg::rows(problem.contact.force_rows());
+        let mut tangents = 0;
+        if let Some(f) = &problem.contact.friction {
+            let minus_bt: Vec<Vec<(usize, f64)>> = linalg::rows(&f.b_t)
+                .into_iter()
+                .map(|row| row.into_iter().map(|(j, v)| (j, -v)).collect())
+                .collect();
+            b_rows.extend(minus_bt.iter().cloned());
+            f_rows.extend(minus_bt);
+            tangents = f.tangents;
+        }
+        let nc = b_rows.len();
         Ok(Self {
             op,
             solver: Some(solver),
@@ -90,10 +109,12 @@ impl DirectStep {
             c,
             q: vec![0.0; nc],
             rhs: vec![0.0; n],
-            b_rows: linalg::rows(&problem.contact.b_n),
-            f_rows: linalg::rows(problem.contact.force_rows()),
+            b_rows,
+            f_rows,
             n,
             nw,
+            points,
+            tangents,
         })
     }
 
@@ -186,20 +207,29 @@ impl DirectStep {
         }
         // The working set: the points predicted in contact or warm-started, grown by the points
         // that the solution on it penetrates until there are none (the law sees q_i = +∞, i.e.
-        // excludes, outside the set; D is formed on the set's columns only).
-        let nc = self.q.len();
-        let mut set: Vec<bool> = (0..nc)
+        // excludes, outside the set; D is formed on the set's columns only). A tangential row
+        // follows its point.
+        let (nc, points, tangents) = (self.q.len(), self.points, self.tangents);
+        let point = |row: usize| match row.checked_sub(points) {
+            None => row,
+            Some(t) => t / tangents,
+        };
+        let mut set: Vec<bool> = (0..points)
             .map(|i| self.q[i].is_finite() && (self.q[i] < 0.0 || lambda[i] != 0.0))
             .collect();
         let mut info = SolveInfo::default();
         loop {
-            let cols: Vec<usize> = (0..nc).filter(|&i| set[i]).collect();
+            let cols: Vec<usize> = (0..nc).filter(|&i| set[point(i)]).collect();
             self.form(&cols);
             let q_set: Vec<f64> = (0..nc)
-                .map(|i| if set[i] { self.q[i] } else { f64::INFINITY })
+                .map(|i| match (set[point(i)], i < points) {
+                    (true, _) => self.q[i],
+                    (false, true) => f64::INFINITY,
+                    (false, false) => 0.0,
+                })
                 .collect();
-            for (l, &s) in lambda.iter_mut().zip(&set) {
-                if !s {
+            for (i, l) in lambda.iter_mut().enumerate() {
+                if !set[point(i)] {
                     *l = 0.0;
                 }
             }
@@ -215,7 +245,7 @@ impl DirectStep {
                 linalg::axpy(&mut gap, l, self.d.column(j).as_slice());
             }
             let mut grown = false;
-            for i in 0..nc {
+            for i in 0..points {
                 if !set[i] && self.q[i].is_finite() && gap[i] < 0.0 {
                     set[i] = true;
                     grown = true;
@@ -246,7 +276,11 @@ impl DirectStep {
             }
         } else {
             self.rhs.copy_from_slice(r);
-            linalg::mul_t_add(&mut self.rhs, problem.contact.force_rows(), lambda, -self.c);
+            let (normal, tangential) = lambda.split_at(self.points);
+            linalg::mul_t_add(&mut self.rhs, problem.contact.force_rows(), normal, -self.c);
+            if let Some(f) = &problem.contact.friction {
+                linalg::mul_t_add(&mut self.rhs, &f.b_t, tangential, self.c);
+            }
             self.op.solve(&self.rhs, u, w);
         }
         Ok(info)

@@ -278,6 +278,7 @@ impl<'p> Explicit<'p> {
             energy_u: &self.midpoint,
             lambda: &self.lambda,
             extra_energy: 0.0,
+            friction_work: 0.0,
         }
     }
 

@@ -25,10 +25,12 @@ pub mod cfl;
 pub mod contact_step;
 pub mod direct;
 pub mod explicit;
+pub mod friction;
 pub mod iterative;
 pub mod stepper;
 pub mod trapezoidal;
 
 pub use contact_step::{cg_pays, ContactStep, LinearSolver, AUTO_CG_DOFS, LINEAR_SOLVERS};
+pub use friction::FrictionStep;
 pub use stepper::{initial_acceleration, time_step, Stepper, ThreeLevel};
 pub use trapezoidal::Trapezoidal;

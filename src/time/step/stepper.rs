@@ -2,6 +2,7 @@
 //! inertial variables and the contact pressures, and the bookkeeping of one step.
 
 use super::contact_step::ContactStep;
+use super::friction::FrictionStep;
 use crate::contact::SolveInfo;
 use crate::error::{positive, Error, Result};
 use crate::linalg;
@@ -24,6 +25,8 @@ pub struct Stepper<'p> {
     pub lambda: Vec<f64>,
     /// Right-hand side workspace (displacement dofs).
     pub rhs: Vec<f64>,
+    /// Coulomb friction, when the problem has it.
+    pub friction: Option<FrictionStep>,
 }
 
 impl<'p> Stepper<'p> {
@@ -48,6 +51,7 @@ impl<'p> Stepper<'p> {
             v,
             lambda: vec![0.0; problem.contact.len()],
             rhs: vec![0.0; problem.n()],
+            friction: FrictionStep::new(problem),
         })
     }
 
@@ -62,25 +66,45 @@ impl<'p> Stepper<'p> {
         self.rhs.iter_mut().zip(f).for_each(|(r, f)| *r = scale * f);
     }
 
-    /// Solves `A (U, w) = rhs − c B_Nᵀ λ` with the Signorini law on the new gap `g₀ − B_N U`.
+    /// Solves `A (U, w) = rhs − c B_Nᵀ λ` with the Signorini law on the new gap `g₀ − B_N U`;
+    /// with friction, `+ c B_Tᵀ r_T` and Coulomb's law on the slip increment
+    /// `Δs = B_T (U_{n+1} − Uₙ)` ([`FrictionStep::position`]), whose work it adds up.
     pub fn solve_position(&mut self) -> Result<SolveInfo> {
+        if let Some(f) = self.friction.as_mut() {
+            f.position(&self.problem.contact.g0, &self.u);
+        }
         let (mut u, mut w) = (std::mem::take(&mut self.u), std::mem::take(&mut self.w));
         let info = self.solve_position_into(&mut u, &mut w);
         (self.u, self.w) = (u, w);
-        info
+        let info = info?;
+        if let Some(f) = self.friction.as_mut() {
+            f.dissipate(&self.u);
+        }
+        Ok(info)
     }
 
     /// As [`Stepper::solve_position`], writing `(X, w_X)` to `u`, `w` (the schemes whose unknown
-    /// is not the new displacement itself).
+    /// is not the new displacement itself; with friction, the offsets must have been set).
     pub fn solve_position_into(&mut self, u: &mut [f64], w: &mut [f64]) -> Result<SolveInfo> {
         let at = self.next();
-        self.system.solve(
+        let Some(f) = self.friction.as_mut() else {
+            return self.system.solve(
+                self.problem,
+                (&self.rhs, &self.problem.contact.g0),
+                (u, w),
+                &mut self.lambda,
+                at,
+            );
+        };
+        let info = self.system.solve(
             self.problem,
-            (&self.rhs, &self.problem.contact.g0),
+            (&self.rhs, &f.offset),
             (u, w),
-            &mut self.lambda,
+            &mut f.reaction,
             at,
-        )
+        )?;
+        self.lambda.copy_from_slice(f.normal());
+        Ok(info)
     }
 
     /// Ends a step: advances the counter and checks that the state is finite.
@@ -106,6 +130,7 @@ impl<'p> Stepper<'p> {
             energy_u,
             lambda: &self.lambda,
             extra_energy: 0.0,
+            friction_work: self.friction.as_ref().map_or(0.0, |f| f.work),
         }
     }
 }
