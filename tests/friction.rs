@@ -62,8 +62,9 @@ fn distance(r: &RunResult) -> f64 {
 /// (backward Euler, standard mass, Δt = 0.01). The block starts undeformed, so the normal force
 /// builds up from 0 over the compression wave's travel time H/c_p (c_p = √((λ + 2G)/ρ) = 11.6,
 /// H = ½): the friction force lags μ m g by at most that long, so `|v_h − v| ≤ μ g H/c_p = 1.1e-2`
-/// (measured 4.4e-3, at t = 0.04); once the vibrations have died down (t ≥ 1) the error is
-/// measured ≤ 1.8e-4 (asserted < 1e-3). The first sample with v_h ≤ 0.01 is at t = 3.97, the
+/// (measured 4.4e-3, at t = 0.04); once backward Euler has damped the vibrations (t ≥ 1) the
+/// error is measured ≤ 4.6e-4 (asserted < 1e-3; the error is μ v_z, see
+/// `the_momentum_identity_holds_while_sliding`). The first sample with v_h ≤ 0.01 is at t = 3.97, the
 /// distance 1.9994 by t = 5, and after t* the block sticks: |v_h| ≤ 9.1e-3 from t = 4.1 (its
 /// elastic vibration; the rigid body is at rest).
 #[test]
@@ -95,44 +96,116 @@ fn the_block_decelerates_at_mu_g_and_stops_at_t_star() {
     assert!(after < 2e-2, "moves at {after:e} after t*");
 }
 
+/// `(t, v_x, v_z, W_f)` of every step: the centre of mass's velocity along the plane and normal
+/// to it, `(M̃1_k)ᵀV / 1_kᵀM̃1_k` with the space's own mass, read from the integrator's states
+/// (a frictionless run has no `com_velocity_t` column, and no run writes `v_z`).
+fn states(o: &Overrides) -> Vec<[f64; 4]> {
+    let case = slide_case(o).unwrap();
+    let spec = case.run();
+    let space = dyncontact::space::by_name(&spec.space).unwrap();
+    let mut problem = case.problem(space.as_ref()).unwrap();
+    let fem = case.discretisation().unwrap();
+    let d = fem.dim();
+    let weights: Vec<(Vec<f64>, f64)> = [0, d - 1]
+        .into_iter()
+        .map(|k| {
+            let one = fem.interpolate(|_| std::array::from_fn(|c| if c == k { 1.0 } else { 0.0 }));
+            let mut m1 = vec![0.0; problem.n()];
+            let inertial = problem.inertia.project(&one).unwrap();
+            problem.inertia.apply_add(&mut m1, &inertial, 1.0);
+            let mass = m1.iter().zip(&one).map(|(a, b)| a * b).sum();
+            // (M̃1)ᵀV = 1ᵀ(apply(v)): apply to v, then sum along 1.
+            (one, mass)
+        })
+        .collect();
+    let formulation = dyncontact::contact::formulation(&spec.options).unwrap();
+    let friction = problem.contact.friction.is_some();
+    let solver = formulation
+        .setup(&mut problem, spec.options.contact_solver_with(friction))
+        .unwrap();
+    let scheme = dyncontact::time::by_name(&spec.scheme, spec.params()).unwrap();
+    let mut it = scheme.prepare(&problem, spec.dt, solver.into()).unwrap();
+    let mut mv = vec![0.0; problem.n()];
+    let mut out = Vec::new();
+    for _ in 0..=spec.steps() {
+        let s = it.state();
+        mv.fill(0.0);
+        problem.inertia.apply_add(&mut mv, s.v, 1.0);
+        let com = |(one, mass): &(Vec<f64>, f64)| {
+            one.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>() / mass
+        };
+        out.push([s.t, com(&weights[0]), com(&weights[1]), s.friction_work]);
+        if out.len() <= spec.steps() {
+            it.step().unwrap();
+        }
+    }
+    out
+}
+
 /// Without friction nothing acts along the plane: the centre of mass keeps v₀ to round-off
-/// (`--friction 0` is the frictionless run itself, so the velocity is read from the states).
-/// Measured: 1.3e-11 after 500 steps (the factor's round-off, accumulated).
+/// (`--friction 0` is the frictionless run itself). Measured: 1.3e-11 after 500 steps (the
+/// factor's round-off, accumulated).
 #[test]
 fn without_friction_the_block_keeps_v0() {
     let o = Overrides {
         friction: Some(0.0),
         ..Default::default()
     };
-    let case = slide_case(&o).unwrap();
-    let spec = case.run();
-    let space = dyncontact::space::by_name(&spec.space).unwrap();
-    let mut problem = case.problem(space.as_ref()).unwrap();
-    assert!(problem.contact.friction.is_none(), "μ = 0 is frictionless");
-    let one = case
-        .discretisation()
+    assert!(slide_case(&o)
         .unwrap()
-        .friction(1.0)
+        .problem(dyncontact::space::by_name("standard").unwrap().as_ref())
         .unwrap()
-        .translation;
-    let mut m1 = vec![0.0; problem.n()];
-    problem.inertia.apply_add(&mut m1, &one, 1.0);
-    let mass: f64 = m1.iter().zip(&one).map(|(a, b)| a * b).sum();
-    let formulation = dyncontact::contact::formulation(&spec.options).unwrap();
-    let solver = formulation.setup(&mut problem, "active_set").unwrap();
-    let scheme = dyncontact::time::by_name(&spec.scheme, spec.params()).unwrap();
-    let mut it = scheme.prepare(&problem, spec.dt, solver.into()).unwrap();
-    let mut worst: f64 = 0.0;
-    for _ in 0..spec.steps() {
-        it.step().unwrap();
-        let v: f64 = m1.iter().zip(it.state().v).map(|(a, b)| a * b).sum::<f64>() / mass;
-        worst = worst.max((v - 1.0).abs());
-    }
+        .contact
+        .friction
+        .is_none());
+    let worst = states(&o)
+        .iter()
+        .map(|s| (s[1] - 1.0).abs())
+        .fold(0.0, f64::max);
     println!("μ = 0: max |v − v₀| = {worst:e}");
     assert!(
         worst < 1e-9,
         "the frictionless block changed speed by {worst:e}"
     );
+}
+
+/// While every loaded point slides forwards, `r_T = −μ λ_N` at each, so the momentum balance
+/// along the plane and normal to it gives `d/dt (v_x + μ v_z) = −μ g` exactly (K annihilates
+/// the translations, the load is −m g): a scheme whose momentum update is a combination of the
+/// step's forces keeps `v_x + μ v_z = v₀ − μ g t` to the solver's tolerance. The com velocity's
+/// error against the rigid slide is then exactly `μ v_z`, the block's vertical vibration (it
+/// starts undeformed and bounces on its weight), which does not vanish as h, Δt → 0 (the
+/// elastic solution vibrates for ever): measured max |v_x − v| up to t = 3.9 of 3.6e-3, 4.4e-3,
+/// 7.4e-3, 1.5e-2 at (h, Δt) = (1/4, 0.02), (1/8, 0.01), (1/16, 0.005), (1/32, 0.0025), growing
+/// as backward Euler damps the vibration less. The rigid-body reference is exact for
+/// `v_x + μ v_z`, not for v_x.
+///
+/// Measured up to t = 3.5 with backward Euler: ≤ 1.7e-11 on every space but mass elimination
+/// (whose load keeps the mass m while its inertia is 1ᵀM̃1 < m). Newmark ½,½ and Moreau–Jean
+/// break it (1.4e-3 and 9.4e-4 on the standard mass, up to 0.38 for Moreau–Jean on the spaces
+/// with massless normal dofs, where it is unstable under gravity without friction too):
+/// with their weakly damped vibrations some points stick or slip backwards for a step (seen on
+/// Newmark: 5 point-steps with slip 0 or −5.3e-4 and `r_T = +μ λ_N`), which the law allows and
+/// the identity does not.
+#[test]
+fn the_momentum_identity_holds_while_sliding() {
+    for space in dyncontact::space::names() {
+        if space == "mass_elimination" {
+            continue;
+        }
+        let o = Overrides {
+            space: Some(space.into()),
+            degree: matches!(space, "singular_dynamic" | "modified_quadrature").then_some(2),
+            ..Default::default()
+        };
+        let worst = states(&o)
+            .iter()
+            .filter(|s| s[0] <= 3.5)
+            .map(|s| (s[1] + SLIDE.mu * s[2] - SLIDE.velocity(s[0])).abs())
+            .fold(0.0, f64::max);
+        println!("{space}: max |v_x + μ v_z − v(t)| = {worst:.2e}");
+        assert!(worst < 1e-9, "{space}: v_x + μ v_z off by {worst:e}");
+    }
 }
 
 /// Backward Euler's energy identity with friction: `E_{n+1} + W_{f,n+1} ≤ Eₙ + W_{f,n}` at every
