@@ -169,7 +169,8 @@ pub struct Options {
     #[arg(long = "contact-multiplier")]
     #[serde(default, deserialize_with = "names::contact_multiplier")]
     pub contact_multiplier: Option<String>,
-    /// Solver of the per-step contact LCP (active_set, clarabel).
+    /// Solver of the per-step contact problem: active_set, clarabel (the LCP), alart_curnier,
+    /// projected_gauss_seidel, de_saxce (Coulomb friction, or the LCP without it).
     #[arg(long = "contact-solver")]
     #[serde(default, deserialize_with = "names::contact_solver")]
     pub contact_solver: Option<String>,

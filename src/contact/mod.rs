@@ -54,6 +54,7 @@ pub const SOLVERS: &[&str] = &[
     "clarabel",
     "alart_curnier",
     "projected_gauss_seidel",
+    "de_saxce",
 ];
 
 /// The LCP solver called `name`, with a workspace for `n_c` contact points.
@@ -66,7 +67,9 @@ pub fn by_name(name: &str, n_c: usize) -> Result<Box<dyn Solver>> {
     match name {
         "active_set" => Ok(Box::new(active_set::ActiveSet::new(n_c))),
         "clarabel" => Ok(Box::new(clarabel_qp::ClarabelQp::new())),
-        "alart_curnier" | "projected_gauss_seidel" => friction::by_name(name, signorini),
+        "alart_curnier" | "projected_gauss_seidel" | "de_saxce" => {
+            friction::by_name(name, signorini)
+        }
         _ => Err(Error::UnknownName {
             kind: "contact solver",
             name: name.to_string(),

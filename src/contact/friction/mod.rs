@@ -1,5 +1,5 @@
 //! Coulomb friction with Signorini contact at the nodal points: the per-step problem and its
-//! exact solvers ([`alart_curnier`], [`projected_gauss_seidel`]).
+//! exact solvers ([`alart_curnier`], [`projected_gauss_seidel`], [`de_saxce`]).
 //!
 //! Local variables of contact point i (`notes/papers/friction.md` §0, after Siconos'
 //! `friction_contact.rst` lines 44–46): the relative "velocity" `u = (u_N, u_T)` (u_N > 0
@@ -18,6 +18,7 @@
 //! point-major (`n_c + i (d − 1) + k`). A point whose normal `q_i` is `+∞` is excluded (r = 0).
 
 pub mod alart_curnier;
+pub mod de_saxce;
 pub mod projected_gauss_seidel;
 
 use super::Solver;
@@ -25,7 +26,7 @@ use crate::error::{Error, Result, SolverError};
 use nalgebra::{DMatrix, DVector};
 
 /// Names of the friction solvers (also accepted, without friction, for Signorini's LCP).
-pub const SOLVERS: &[&str] = &["alart_curnier", "projected_gauss_seidel"];
+pub const SOLVERS: &[&str] = &["alart_curnier", "projected_gauss_seidel", "de_saxce"];
 
 /// The solver of a friction run when `--contact-solver` is not given.
 pub const DEFAULT_SOLVER: &str = "alart_curnier";
@@ -66,6 +67,7 @@ impl Coulomb {
 pub fn by_name(name: &str, law: Coulomb) -> Result<Box<dyn Solver>> {
     match name {
         "alart_curnier" => Ok(Box::new(alart_curnier::AlartCurnier::new(law))),
+        "de_saxce" => Ok(Box::new(de_saxce::DeSaxce::new(law))),
         "projected_gauss_seidel" => Ok(Box::new(
             projected_gauss_seidel::ProjectedGaussSeidel::new(law),
         )),
@@ -212,10 +214,14 @@ pub(crate) mod testing {
             let nt = ut.iter().map(|x| x * x).sum::<f64>().sqrt();
             let nr = rt.iter().map(|x| x * x).sum::<f64>().sqrt();
             worst = worst.max(nr - law.mu * rn);
-            if nt > 1e-12 {
-                for (a, b) in rt.iter().zip(&ut) {
-                    worst = worst.max((a + law.mu * rn * b / nt).abs());
-                }
+            // A slip is either negligible (stick, counted as is) or opposed by μ r_N.
+            let direction = rt
+                .iter()
+                .zip(&ut)
+                .map(|(a, b)| (a + law.mu * rn * b / nt).abs())
+                .fold(0.0, f64::max);
+            if nt > 0.0 {
+                worst = worst.max(nt.min(direction));
             }
         }
         worst

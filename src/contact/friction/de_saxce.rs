@@ -1,0 +1,231 @@
+//! De Saxcé's modified velocity and the fixed point on its convex relaxation (Acary, Cadoux,
+//! Lemaréchal & Malick), each inner problem a conic QP for Clarabel's second-order cones.
+//! Sources (`notes/papers/friction.md` §2, siconos/siconos 6070f0f): `friction_contact.rst`
+//! lines 27–40 (with `û = u + μ‖u_T‖ e_N`, `C*_μ ∋ û ⊥ r ∈ C_μ` is Signorini + Coulomb),
+//! `fc3d_ACLMFixedPoint.c` lines 124–153 (the fixed point) and `fc3d_SOCLCP.c` lines 93–120
+//! (the un-iterated relaxation is not Coulomb). Repeat, with `s_i = μ‖u_{T,i}‖` from the
+//! previous iterate:
+//!
+//! `min ½ rᵀ W r + (q + s e_N)ᵀ r  s.t.  (μ r_N, r_T) ∈ SOC` per point,
+//!
+//! whose KKT conditions are `C*_μ ∋ W r + q + s e_N ⊥ r ∈ C_μ`: in Clarabel's form `A = −D`,
+//! `D = diag(μ, 1, …)`, `b = 0`, cone `SecondOrderConeT(d)` with the cone variable t first
+//! (`clarabel-0.11.1/src/solver/core/cones/socone.rs` line 105). At a fixed point s = μ‖u_T‖ and
+//! û is De Saxcé's: the law holds exactly. The outer loop stops when the Alart–Curnier residual
+//! ([`super::alart_curnier`]) is below [`TOLERANCE`] · scale (looser than the other solvers':
+//! the interior point's own accuracy is 1e-10) and fails after [`MAX_FIXED_POINT`] rounds: the
+//! fixed point is not guaranteed to converge (the problem is not convex).
+
+use super::{alart_curnier, Coulomb, Local};
+use crate::contact::{SolveInfo, Solver};
+use crate::error::SolverError;
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{
+    DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+};
+use nalgebra::{DMatrix, DVector};
+
+/// Relative tolerance on the Alart–Curnier residual at a fixed point.
+pub const TOLERANCE: f64 = 1e-7;
+
+/// Fixed-point rounds allowed per step.
+pub const MAX_FIXED_POINT: usize = 100;
+
+/// The fixed point with Clarabel's interior point for each round.
+#[derive(Debug, Clone)]
+pub struct DeSaxce {
+    law: Coulomb,
+    settings: DefaultSettings<f64>,
+}
+
+impl DeSaxce {
+    /// For `law`, interior point to 1e-12 without console output.
+    pub fn new(law: Coulomb) -> Self {
+        let settings = DefaultSettingsBuilder::default()
+            .verbose(false)
+            .max_iter(200)
+            .tol_gap_abs(1e-12)
+            .tol_gap_rel(1e-12)
+            .tol_feas(1e-12)
+            .tol_ktratio(1e-10)
+            .build()
+            .expect("constant Clarabel settings are valid");
+        Self { law, settings }
+    }
+
+    /// One convex round: the reaction for the shifts `s` (per point), and the interior point's
+    /// iterations.
+    fn round(&self, loc: &Local, s: &[f64]) -> Result<(DVector<f64>, usize), SolverError> {
+        let (k, dim) = (loc.q.len(), loc.dim);
+        let p = upper(&loc.w);
+        let mut q: Vec<f64> = loc.q.iter().copied().collect();
+        for (pt, si) in s.iter().enumerate() {
+            q[pt * dim] += si;
+        }
+        // A = −D (diagonal), b = 0: the slack is D r.
+        let diag: Vec<f64> = (0..k)
+            .map(|a| {
+                if a % dim == 0 && dim > 1 {
+                    -loc.mu
+                } else {
+                    -1.0
+                }
+            })
+            .collect();
+        let a = CscMatrix::new(k, k, (0..=k).collect(), (0..k).collect(), diag);
+        let b = vec![0.0; k];
+        let cones: Vec<SupportedConeT<f64>> = if dim == 1 {
+            vec![SupportedConeT::NonnegativeConeT(k)]
+        } else {
+            (0..loc.points.len())
+                .map(|_| SupportedConeT::SecondOrderConeT(dim))
+                .collect()
+        };
+        let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, self.settings.clone())
+            .map_err(|e| SolverError::Clarabel {
+                status: format!("setup failed: {e}"),
+            })?;
+        solver.solve();
+        let status = solver.solution.status;
+        if !matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
+            return Err(SolverError::Clarabel {
+                status: format!("{status:?}"),
+            });
+        }
+        Ok((
+            DVector::from_vec(solver.solution.x.clone()),
+            solver.info.iterations as usize,
+        ))
+    }
+}
+
+/// The upper triangle of W as a Clarabel CSC matrix.
+fn upper(w: &DMatrix<f64>) -> CscMatrix<f64> {
+    let k = w.nrows();
+    let (mut colptr, mut rowval, mut nzval) = (vec![0], Vec::new(), Vec::new());
+    for j in 0..k {
+        for i in 0..=j {
+            rowval.push(i);
+            nzval.push(w[(i, j)]);
+        }
+        colptr.push(rowval.len());
+    }
+    CscMatrix::new(k, k, colptr, rowval, nzval)
+}
+
+/// `s_i = μ ‖u_{T,i}‖` at `r`.
+fn shifts(loc: &Local, r: &DVector<f64>) -> Vec<f64> {
+    let (u, dim) = (loc.velocity(r), loc.dim);
+    (0..loc.points.len())
+        .map(|p| {
+            let t = (1..dim).map(|c| u[p * dim + c].powi(2)).sum::<f64>();
+            loc.mu * t.sqrt()
+        })
+        .collect()
+}
+
+impl Solver for DeSaxce {
+    fn name(&self) -> &'static str {
+        "de_saxce"
+    }
+
+    fn signorini(&self) -> bool {
+        self.law.tangents == 0 || self.law.mu == 0.0
+    }
+
+    fn solve(
+        &mut self,
+        d: &DMatrix<f64>,
+        q: &[f64],
+        lambda: &mut [f64],
+    ) -> Result<SolveInfo, SolverError> {
+        let (loc, mut r) = Local::gather(&self.law, d, q, lambda)?;
+        if loc.points.is_empty() {
+            lambda.fill(0.0);
+            return Ok(SolveInfo::default());
+        }
+        let mut iterations = 0;
+        let mut norm = f64::INFINITY;
+        for _ in 0..MAX_FIXED_POINT {
+            let (next, its) = self.round(&loc, &shifts(&loc, &r))?;
+            iterations += its;
+            r = next;
+            norm = alart_curnier::residual(&loc, &r, false).0.norm();
+            if norm <= TOLERANCE * loc.scale(&r) {
+                loc.scatter(&self.law, &r, lambda);
+                return Ok(SolveInfo {
+                    iterations,
+                    active: loc.active(&r),
+                });
+            }
+        }
+        Err(SolverError::NotConverged {
+            method: "de_saxce",
+            detail: format!(
+                "Alart–Curnier residual {norm:.3e} (tolerance {:.3e}) after {MAX_FIXED_POINT} \
+                 fixed-point rounds on {} points",
+                TOLERANCE * loc.scale(&r),
+                loc.points.len()
+            ),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::alart_curnier::AlartCurnier;
+    use super::super::testing::{two_points, violation};
+    use super::*;
+
+    #[test]
+    fn agrees_with_alart_curnier_on_coupled_points() {
+        for mu in [0.1, 0.5, 2.0] {
+            let (law, w) = two_points(mu);
+            for q in [
+                [-1.0, -0.5, 0.8, -0.1],
+                [-1.0, 0.5, 0.1, 3.0],
+                [0.2, 0.3, 1.0, 1.0],
+            ] {
+                let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
+                AlartCurnier::new(law).solve(&w, &q, &mut a).unwrap();
+                DeSaxce::new(law).solve(&w, &q, &mut b).unwrap();
+                let v = violation(&law, &w, &q, &b);
+                assert!(
+                    v < 1e-7,
+                    "μ {mu}, q {q:?}: {b:?} against {a:?}, violation {v:e}"
+                );
+                let diff = a
+                    .iter()
+                    .zip(&b)
+                    .map(|(x, y)| (x - y).abs())
+                    .fold(0.0, f64::max);
+                assert!(diff < 1e-7, "μ {mu}, q {q:?}: {a:?} against {b:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn three_d_point_on_the_cone() {
+        let law = Coulomb {
+            mu: 0.4,
+            points: 1,
+            tangents: 2,
+        };
+        #[rustfmt::skip]
+        let w = DMatrix::from_row_slice(3, 3, &[
+            1.0, 0.1, 0.0,
+            0.1, 1.5, 0.2,
+            0.0, 0.2, 0.8,
+        ]);
+        let q = [-1.0, 1.0, -2.0];
+        let (mut a, mut b) = ([0.0; 3], [0.0; 3]);
+        AlartCurnier::new(law).solve(&w, &q, &mut a).unwrap();
+        DeSaxce::new(law).solve(&w, &q, &mut b).unwrap();
+        let diff = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(diff < 1e-7, "{a:?} against {b:?}");
+    }
+}
