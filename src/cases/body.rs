@@ -5,6 +5,8 @@
 //! - `hertz3d` / `hertz2d`: a sphere / a disc (plane strain) touching the plane at t = 0, checked
 //!   against Hertz theory ([`crate::exact::hertz`], `shared/reference/hertz_impact.md`);
 //! - `disc2d`: GetFEM's demo disc falling under gravity;
+//! - `roll2d`: GetFEM's disc on a plane of slope α (gravity tilted), released at rest with
+//!   friction: it rolls when μ ≥ tan α / 3 ([`crate::exact::roll`]);
 //! - `slide2d` / `slide3d`: a box resting on the plane under gravity, launched along the first
 //!   axis (`tangential_velocity`), with Coulomb friction (`[contact] friction = μ`): its centre
 //!   of mass against the rigid-body slide ([`crate::exact::slide`]).
@@ -66,9 +68,13 @@ pub struct Geometry {
     /// Initial gap between Γ_C and the plane (≥ 0).
     #[serde(default)]
     pub lift: f64,
-    /// Gravity acceleration g ≥ 0 (body force −ρ g e_d).
+    /// Gravity acceleration g ≥ 0 (body force −ρ g e_d, or tilted by `slope`).
     #[serde(default)]
     pub gravity: f64,
+    /// Slope α of the plane in radians, |α| < π/2 (the roll case): gravity is
+    /// `g (sin α e_1 − cos α e_d)` in the plane's frame (default 0).
+    #[serde(default)]
+    pub slope: f64,
 }
 
 /// `[mesh]`.
@@ -127,6 +133,7 @@ pub const KINDS: &[(&str, usize)] = &[
     ("disc2d", 2),
     ("slide2d", 2),
     ("slide3d", 3),
+    ("roll2d", 2),
 ];
 
 /// The whole case file of an elastic body.
@@ -365,6 +372,12 @@ impl Body {
         };
         crate::error::non_negative("geometry.lift", g.lift)?;
         crate::error::non_negative("geometry.gravity", g.gravity)?;
+        crate::error::in_range(
+            "geometry.slope",
+            g.slope,
+            -0.5 * std::f64::consts::PI,
+            0.5 * std::f64::consts::PI,
+        )?;
         let (mesh, rule) = build_mesh(&spec, o, kind, dim)?;
         let hertz = if kind.starts_with("hertz") {
             let radius = g.radius.ok_or_else(|| {
@@ -459,10 +472,15 @@ impl Case for Body {
                     _ => 0.0,
                 })
             }),
-            gravity: Some(g.gravity),
+            gravity: Some(g.gravity * g.slope.cos()),
             lift: g.lift,
         };
         let mut problem = fem.problem(|m| space.inertia(m), &initial)?;
+        if g.slope != 0.0 {
+            // The component of gravity along the slope, on the first component.
+            let along = fem.body_force(&fem.mass_model(), 0, g.gravity * g.slope.sin());
+            crate::linalg::axpy(&mut problem.f, 1.0, &along);
+        }
         if self.friction > 0.0 {
             problem.contact.friction = Some(fem.friction(self.friction)?);
         }

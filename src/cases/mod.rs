@@ -421,6 +421,7 @@ pub const CASES: &[&str] = &[
     "disc2d",
     "slide2d",
     "slide3d",
+    "roll2d",
     "two_bars",
 ];
 
@@ -471,7 +472,8 @@ impl CaseFile {
         let spec = match header.case.as_str() {
             "bar1d" => Spec::Bar1d(spec_from_str(&text, path)?),
             "bar_flight" => Spec::BarFlight(spec_from_str(&text, path)?),
-            "block2d" | "block3d" | "hertz2d" | "hertz3d" | "disc2d" | "slide2d" | "slide3d" => {
+            "block2d" | "block3d" | "hertz2d" | "hertz3d" | "disc2d" | "slide2d" | "slide3d"
+            | "roll2d" => {
                 let mut spec: body::BodySpec = spec_from_str(&text, path)?;
                 // A mesh file is relative to the case file's directory.
                 if let (Some(f), Some(dir)) = (&spec.mesh.file, path.parent()) {

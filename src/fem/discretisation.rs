@@ -328,11 +328,15 @@ impl Discretisation {
 
     /// The consistent body force `F_i = −g ∫ρ φ_i` on the last component (gravity g ≥ 0).
     pub fn gravity_load(&self, model: &MassModel, gravity: f64) -> Vec<f64> {
-        let d = self.dim();
+        self.body_force(model, self.dim() - 1, -gravity)
+    }
+
+    /// The consistent body force `F_i = a ∫ρ φ_i` of the acceleration `a` along component `k`.
+    pub fn body_force(&self, model: &MassModel, k: usize, a: f64) -> Vec<f64> {
         let mut f = vec![0.0; self.n_dofs()];
         for (i, m) in self.nodal_masses(model).into_iter().enumerate() {
-            if let Some(dof) = self.dofs.get(i, d - 1) {
-                f[dof] = -gravity * m;
+            if let Some(dof) = self.dofs.get(i, k) {
+                f[dof] = a * m;
             }
         }
         f
