@@ -142,7 +142,7 @@ impl Solver for AlartCurnier {
     }
 
     fn signorini(&self) -> bool {
-        self.law.tangents == 0 || self.law.mu == 0.0
+        self.law.is_signorini()
     }
 
     fn solve(
@@ -152,25 +152,17 @@ impl Solver for AlartCurnier {
         lambda: &mut [f64],
     ) -> Result<SolveInfo, SolverError> {
         let (loc, mut r) = Local::gather(&self.law, d, q, lambda)?;
-        let mut norm = residual(&loc, &r, false).0.norm();
-        for it in 0..=MAX_ITERATIONS {
-            if norm <= TOLERANCE * loc.scale(&r) {
-                loc.scatter(&self.law, &r, lambda);
-                return Ok(SolveInfo {
-                    iterations: it,
-                    active: loc.active(&r),
-                });
-            }
-            if it == MAX_ITERATIONS {
-                break;
+        let (mut norm, mut done) = loc.converged(&r, TOLERANCE);
+        for it in 0..MAX_ITERATIONS {
+            if done {
+                return Ok(loc.finish(&self.law, &r, lambda, it));
             }
             let (f, jac) = residual(&loc, &r, true);
-            let jac = jac.ok_or(SolverError::Singular {
+            let singular = SolverError::Singular {
                 method: "alart_curnier",
-            })?;
-            let dr = jac.lu().solve(&(-f)).ok_or(SolverError::Singular {
-                method: "alart_curnier",
-            })?;
+            };
+            let jac = jac.ok_or(singular.clone())?;
+            let dr = jac.lu().solve(&(-f)).ok_or(singular)?;
             let mut t = 1.0;
             for _ in 0..LINE_SEARCH {
                 let trial = residual(&loc, &(&r + t * &dr), false).0.norm();
@@ -183,17 +175,17 @@ impl Solver for AlartCurnier {
                 t = 1.0;
             }
             r += t * &dr;
-            norm = residual(&loc, &r, false).0.norm();
+            (norm, done) = loc.converged(&r, TOLERANCE);
         }
-        Err(SolverError::NotConverged {
-            method: "alart_curnier",
-            detail: format!(
-                "residual {norm:.3e} (tolerance {:.3e}) after {MAX_ITERATIONS} Newton iterations \
-                 on {} points",
-                TOLERANCE * loc.scale(&r),
-                loc.points.len()
-            ),
-        })
+        if done {
+            return Ok(loc.finish(&self.law, &r, lambda, MAX_ITERATIONS));
+        }
+        Err(loc.not_converged(
+            "alart_curnier",
+            &r,
+            (norm, TOLERANCE),
+            format!("{MAX_ITERATIONS} Newton iterations"),
+        ))
     }
 }
 

@@ -16,7 +16,7 @@
 //! the interior point's own accuracy is 1e-10) and fails after [`MAX_FIXED_POINT`] rounds: the
 //! fixed point is not guaranteed to converge (the problem is not convex).
 
-use super::{alart_curnier, Coulomb, Local};
+use super::{Coulomb, Local};
 use crate::contact::{SolveInfo, Solver};
 use crate::error::SolverError;
 use clarabel::algebra::CscMatrix;
@@ -130,7 +130,7 @@ impl Solver for DeSaxce {
     }
 
     fn signorini(&self) -> bool {
-        self.law.tangents == 0 || self.law.mu == 0.0
+        self.law.is_signorini()
     }
 
     fn solve(
@@ -144,30 +144,23 @@ impl Solver for DeSaxce {
             lambda.fill(0.0);
             return Ok(SolveInfo::default());
         }
-        let mut iterations = 0;
-        let mut norm = f64::INFINITY;
+        let (mut iterations, mut norm) = (0, f64::INFINITY);
         for _ in 0..MAX_FIXED_POINT {
             let (next, its) = self.round(&loc, &shifts(&loc, &r))?;
             iterations += its;
             r = next;
-            norm = alart_curnier::residual(&loc, &r, false).0.norm();
-            if norm <= TOLERANCE * loc.scale(&r) {
-                loc.scatter(&self.law, &r, lambda);
-                return Ok(SolveInfo {
-                    iterations,
-                    active: loc.active(&r),
-                });
+            let done;
+            (norm, done) = loc.converged(&r, TOLERANCE);
+            if done {
+                return Ok(loc.finish(&self.law, &r, lambda, iterations));
             }
         }
-        Err(SolverError::NotConverged {
-            method: "de_saxce",
-            detail: format!(
-                "Alart–Curnier residual {norm:.3e} (tolerance {:.3e}) after {MAX_FIXED_POINT} \
-                 fixed-point rounds on {} points",
-                TOLERANCE * loc.scale(&r),
-                loc.points.len()
-            ),
-        })
+        Err(loc.not_converged(
+            "de_saxce",
+            &r,
+            (norm, TOLERANCE),
+            format!("{MAX_FIXED_POINT} fixed-point rounds"),
+        ))
     }
 }
 

@@ -21,7 +21,7 @@ pub mod alart_curnier;
 pub mod de_saxce;
 pub mod projected_gauss_seidel;
 
-use super::Solver;
+use super::{SolveInfo, Solver};
 use crate::error::{Error, Result, SolverError};
 use nalgebra::{DMatrix, DVector};
 
@@ -48,6 +48,11 @@ pub struct Coulomb {
 }
 
 impl Coulomb {
+    /// Whether it is Signorini's law alone (no tangent or μ = 0).
+    pub fn is_signorini(&self) -> bool {
+        self.tangents == 0 || self.mu == 0.0
+    }
+
     /// Rows per point, 1 + tangents.
     pub fn dim(&self) -> usize {
         1 + self.tangents
@@ -159,11 +164,43 @@ impl Local {
         r.norm().max(rq).max(f64::MIN_POSITIVE)
     }
 
-    /// Points with r_N > 0.
-    pub fn active(&self, r: &DVector<f64>) -> usize {
-        (0..self.points.len())
+    /// The Alart–Curnier residual `‖F(r)‖` and whether it is within `tolerance` · scale.
+    pub fn converged(&self, r: &DVector<f64>, tolerance: f64) -> (f64, bool) {
+        let norm = alart_curnier::residual(self, r, false).0.norm();
+        (norm, norm <= tolerance * self.scale(r))
+    }
+
+    /// Writes the solution `r` to `lambda` and reports `iterations` and the points with r_N > 0.
+    pub fn finish(
+        &self,
+        law: &Coulomb,
+        r: &DVector<f64>,
+        lambda: &mut [f64],
+        iterations: usize,
+    ) -> SolveInfo {
+        self.scatter(law, r, lambda);
+        let active = (0..self.points.len())
             .filter(|&p| r[p * self.dim] > 0.0)
-            .count()
+            .count();
+        SolveInfo { iterations, active }
+    }
+
+    /// The failure of `method` after `rounds` (e.g. "100 Newton iterations") at residual `norm`.
+    pub fn not_converged(
+        &self,
+        method: &'static str,
+        r: &DVector<f64>,
+        (norm, tolerance): (f64, f64),
+        rounds: String,
+    ) -> SolverError {
+        SolverError::NotConverged {
+            method,
+            detail: format!(
+                "Alart–Curnier residual {norm:.3e} (tolerance {:.3e}) after {rounds} on {} points",
+                tolerance * self.scale(r),
+                self.points.len()
+            ),
+        }
     }
 }
 

@@ -11,7 +11,7 @@
 //! ([`super::alart_curnier`]) is below [`super::TOLERANCE`] · scale, and fails after
 //! [`MAX_SWEEPS`] sweeps: linear convergence, slow when W couples the points strongly.
 
-use super::{alart_curnier, project_disc, Coulomb, Local, TOLERANCE};
+use super::{project_disc, Coulomb, Local, TOLERANCE};
 use crate::contact::{SolveInfo, Solver};
 use crate::error::SolverError;
 use nalgebra::{DMatrix, DVector};
@@ -77,7 +77,7 @@ impl Solver for ProjectedGaussSeidel {
     }
 
     fn signorini(&self) -> bool {
-        self.law.tangents == 0 || self.law.mu == 0.0
+        self.law.is_signorini()
     }
 
     fn solve(
@@ -94,29 +94,21 @@ impl Solver for ProjectedGaussSeidel {
         } else {
             Vec::new()
         };
-        let mut norm = f64::INFINITY;
-        for it in 0..=MAX_SWEEPS {
-            norm = alart_curnier::residual(&loc, &r, false).0.norm();
-            if norm <= TOLERANCE * loc.scale(&r) {
-                loc.scatter(&self.law, &r, lambda);
-                return Ok(SolveInfo {
-                    iterations: it,
-                    active: loc.active(&r),
-                });
+        for it in 0..MAX_SWEEPS {
+            if loc.converged(&r, TOLERANCE).1 {
+                return Ok(loc.finish(&self.law, &r, lambda, it));
             }
-            if it < MAX_SWEEPS {
-                sweep(&loc, &rho_t, &mut r);
-            }
+            sweep(&loc, &rho_t, &mut r);
         }
-        Err(SolverError::NotConverged {
-            method: "projected_gauss_seidel",
-            detail: format!(
-                "Alart–Curnier residual {norm:.3e} (tolerance {:.3e}) after {MAX_SWEEPS} sweeps \
-                 on {} points",
-                TOLERANCE * loc.scale(&r),
-                loc.points.len()
-            ),
-        })
+        match loc.converged(&r, TOLERANCE) {
+            (_, true) => Ok(loc.finish(&self.law, &r, lambda, MAX_SWEEPS)),
+            (norm, false) => Err(loc.not_converged(
+                "projected_gauss_seidel",
+                &r,
+                (norm, TOLERANCE),
+                format!("{MAX_SWEEPS} sweeps"),
+            )),
+        }
     }
 }
 
