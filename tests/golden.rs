@@ -72,6 +72,17 @@ fn snapshot_text(r: &RunRecord) -> String {
         if hertz.iter().any(|h| h.1.is_some()) {
             lines.extend(hertz.iter().map(|(k, v)| format!("{k}: {}", opt(*v))));
         }
+        // Friction metrics (runs with friction only, so that the others stay as they were).
+        let friction = [
+            ("slide_velocity_err", m.slide_velocity_err),
+            ("stop_time", m.stop_time),
+            ("stop_distance", m.stop_distance),
+            ("friction_balance", m.friction_balance),
+            ("friction_work_min_step", m.friction_work_min_step),
+        ];
+        if m.friction_balance.is_some() {
+            lines.extend(friction.iter().map(|(k, v)| format!("{k}: {}", opt(*v))));
+        }
     }
     lines.join("\n")
 }
@@ -102,10 +113,11 @@ fn summary_metrics_of_every_combination_are_unchanged() {
     }
     // bar1d 6 spaces × 15 schemes and 3 spaces × 4 contact formulations, bar_flight 6 × 15,
     // block2d 5 × 2 and 3 × 9, block3d 5 × 1, spring_mass 7 schemes, hertz2d 3 spaces, hertz3d
-    // 2 + 1, two_bars and two_bars_unequal 5 × 8 each.
+    // 2 + 1, two_bars and two_bars_unequal 5 × 8 each, slide2d 5 × 6 with friction and 5 × 4
+    // without.
     assert_eq!(
         count,
-        6 * 15 + 3 * 4 + 6 * 15 + 5 * 2 + 3 * 9 + 5 + 7 + 3 + 3 + 2 * 5 * 8,
+        6 * 15 + 3 * 4 + 6 * 15 + 5 * 2 + 3 * 9 + 5 + 7 + 3 + 3 + 2 * 5 * 8 + 5 * 6 + 5 * 4,
         "one snapshot per case × space × scheme"
     );
 }

@@ -304,3 +304,69 @@ fn shards_merge_into_the_orders_of_one_sweep() {
         "{index}"
     );
 }
+
+/// The "Friction" section of slide2d's quick report: one row per space × scheme of its
+/// `friction` sweep (the refused schemes as `unsupported`), each finished run beside its
+/// frictionless twin, the conclusions computed from them, and the velocity figure linked.
+#[test]
+fn the_friction_section_has_its_rows_conclusions_and_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path();
+    dyncontact(&[
+        "report",
+        "--quick",
+        "--case",
+        "slide2d",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let index = read(&out.join("index.md"));
+    let start = index.find("\n## Friction").expect("a Friction section");
+    let end = index[start + 1..]
+        .find("\n## ")
+        .map_or(index.len(), |k| start + 1 + k);
+    let section = &index[start..end];
+    let spaces = [
+        "standard",
+        "lumped",
+        "mass_redistribution",
+        "mass_elimination",
+        "singular_dynamic",
+    ];
+    for space in spaces {
+        for scheme in ["backward_euler", "newmark", "hht", "moreau_jean"] {
+            let row = section
+                .lines()
+                .find(|l| l.starts_with(&format!("| {space} | {scheme}")))
+                .unwrap_or_else(|| panic!("no row {space} {scheme}:\n{section}"));
+            // Every cell filled (stop time and deceleration aside: a run may not stop), the
+            // iterations and times beside the frictionless run's.
+            let cells: Vec<&str> = row.trim_matches(['|', ' ']).split(" | ").collect();
+            assert_eq!(cells.len(), 11, "{row}");
+            assert_eq!(cells[10], "ok", "{row}");
+            assert!(cells[8].ends_with(')') && cells[9].ends_with(')'), "{row}");
+            for k in [2, 5, 6, 7] {
+                assert!(!cells[k].is_empty(), "{row}");
+            }
+        }
+        for refused in ["central_difference", "paoli_schatzman"] {
+            let row = format!("| {space} | {refused}");
+            assert!(
+                section
+                    .lines()
+                    .any(|l| l.starts_with(&row) && l.ends_with("| unsupported |")),
+                "{row} not refused:\n{section}"
+            );
+        }
+    }
+    for conclusion in [
+        "No scheme makes `E + W_f = E(0)` exact",
+        "Friction never gives energy back",
+        "Mass elimination decelerates at about 4/3 μg",
+    ] {
+        assert!(section.contains(conclusion), "{conclusion}:\n{section}");
+    }
+    let png = "friction_slide2d_friction_com_velocity.png";
+    assert!(section.contains(&format!("]({png})")), "{png} not linked");
+    assert!(out.join(png).exists(), "{png} not written");
+}

@@ -515,6 +515,10 @@ impl Case for Body {
         Some(&self.fem)
     }
 
+    fn slide(&self) -> Option<Slide> {
+        self.slide
+    }
+
     fn impact(&self) -> Option<super::Impact> {
         let hertz = self.hertz?;
         let fem = &self.fem;

@@ -70,6 +70,10 @@ pub trait Case: Send + Sync {
     fn momentum(&self) -> Option<Vec<f64>> {
         None
     }
+    /// The rigid-body slide its centre of mass follows (the slide cases), if any.
+    fn slide(&self) -> Option<crate::exact::slide::Slide> {
+        None
+    }
 }
 
 /// The data of an impact compared with Hertz theory ([`crate::exact::hertz`]).

@@ -11,6 +11,7 @@
 //! ratio = 2                             # elements × ratioᵏ, dt / ratioᵏ
 //! levels = 5
 //! quick_levels = 3                      # levels kept by `--quick` (default 2)
+//! friction = 0.0                       # μ instead of the case's (optional)
 //! # or: refinements = [{ elements = 20, dt = 0.025 }, { elements = 40, dt = 0.0125 }]
 //! ```
 
@@ -93,6 +94,9 @@ pub struct SweepSpec {
     pub quick_levels: usize,
     /// Final time (default: the case's `[run] t_end`).
     pub t_end: Option<f64>,
+    /// Coulomb friction coefficient μ (default: the case's `[contact] friction`); `friction = 0`
+    /// runs the same combinations frictionless, the baseline of the cost of friction.
+    pub friction: Option<f64>,
 }
 
 fn two() -> usize {
@@ -159,7 +163,10 @@ impl SweepSpec {
 
     /// Command-line-like overrides of one combination.
     pub fn overrides(&self, space: &str, choice: &SchemeChoice, level: Refinement) -> Overrides {
-        combination(space, choice, &self.degree, level, self.t_end)
+        Overrides {
+            friction: self.friction,
+            ..combination(space, choice, &self.degree, level, self.t_end)
+        }
     }
 }
 

@@ -51,6 +51,11 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("err_max_approach", "1", "`|δ_max,h − δ_max| / δ_max` against Hertz, δ the centre of mass's approach (sphere)"),
     ("err_contact_radius", "1", "at peak force, `|a_h − a(F_h)| / a(F_h)`, a_h from the second moment of the nodal forces (2D: the half-width)"),
     ("err_peak_pressure", "1", "at peak force, `|p_h − p₀(F_h)| / p₀(F_h)`, p_h the largest `λ_i / area_i`"),
+    ("slide_velocity_err", "case (length/time)", "slide cases with friction: `max_n |v_h − max(v₀ − μgt_n, 0)|`, the centre of mass's tangential velocity against the rigid slide"),
+    ("stop_time", "case (time)", "slide cases with friction: the first sample with centre-of-mass velocity ≤ v₀/100 (the rigid block stops at `v₀/(μg)`); empty when it never does"),
+    ("stop_distance", "case (length)", "slide cases with friction: the distance the centre of mass travels over the run (trapezoidal rule on its velocity; the rigid block stops after `v₀²/(2μg)`)"),
+    ("friction_balance", "1", "runs with friction: `max_n |E_n + W_f,n − E_0| / |E_0|`, the energy balance with the friction work (0 for a scheme that conserves energy up to what friction dissipates)"),
+    ("friction_work_min_step", "case (energy)", "runs with friction: `min_n (W_f,n+1 − W_f,n)`, the least friction work of a step (negative: friction gave energy back)"),
     // orders.csv
     ("quantity", "—", "the metric column fitted"),
     ("order", "1", "least-squares slope of ln(error) against ln(h) (ln(dt) for the 0D spring) over the usable levels (status `ok`, error finite and > 0); read it with `verdict`"),

@@ -24,6 +24,8 @@ pub struct Contents<'a> {
     pub figures: &'a [Figure],
     /// The cross-code comparison (empty when not run).
     pub peers: &'a [Agreement],
+    /// The rigid slide of each case kind with one (the "Friction" section's reference).
+    pub slides: &'a super::friction::Slides,
     /// The cases (their sections, in this order).
     pub cases: &'a [CaseEntry],
     /// `report --quick`.
@@ -56,6 +58,7 @@ pub fn document(c: &Contents<'_>, files: &[String]) -> Doc {
     for case in c.cases {
         case_section(&mut d, c, case);
     }
+    super::friction::section(&mut d, c.records, c.slides, c.figures);
     failures_section(&mut d, c.records);
     cross_code_section(&mut d, c.peers);
     files_section(&mut d, files);

@@ -17,6 +17,7 @@ pub mod columns;
 pub mod doc;
 pub mod figures;
 pub mod findings;
+pub mod friction;
 pub mod impact;
 pub mod index;
 pub mod quantity;
@@ -149,8 +150,13 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
     reference::reference_errors(&mut records);
     journal::rewrite(out, "journal.csv", &all, &records)?;
     let mut figures = Vec::new();
+    let mut slides = Vec::new();
     for f in &files {
         let case = f.build(&Default::default())?;
+        if let Some(s) = case.slide() {
+            slides.push((case.kind().to_string(), s));
+            figures.extend(friction::figures(f, out, opts.quick)?);
+        }
         figures.extend(if case.impact().is_some() {
             impact::impact_figures(f, out, opts.quick)?
         } else {
@@ -167,7 +173,13 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
         peers::write_cross_code(&out.join("cross_code.csv"), &agreements)?;
     }
     let cases = copy_cases(&files, out)?;
-    write(out, &records, figures, &agreements, (&cases, opts.quick))?;
+    write(
+        out,
+        &records,
+        figures,
+        (&agreements, &slides),
+        (&cases, opts.quick),
+    )?;
     Ok(records)
 }
 
@@ -186,7 +198,7 @@ pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
             file: None,
         })
         .collect();
-    write(out, &records, Vec::new(), &[], (&cases, false))?;
+    write(out, &records, Vec::new(), (&[], &[]), (&cases, false))?;
     Ok(records)
 }
 
@@ -194,7 +206,7 @@ fn write(
     out: &Path,
     records: &[RunRecord],
     mut figures: Vec<Figure>,
-    peers: &[Agreement],
+    (peers, slides): (&[Agreement], &friction::Slides),
     (cases, quick): (&[CaseEntry], bool),
 ) -> Result<()> {
     write_records(&out.join("summary.csv"), records, false)?;
@@ -211,6 +223,7 @@ fn write(
             orders: &orders,
             figures: &figures,
             peers,
+            slides,
             cases,
             quick,
         },

@@ -36,6 +36,12 @@ pub fn space(name: &str) -> Style {
     nth(place(crate::space::SPACES.iter().map(|e| e.name), name), 0)
 }
 
+/// A space's style with the `k`-th dash: one colour per space, one dash per scheme (the `k`-th
+/// of a figure).
+pub fn space_variant(name: &str, k: usize) -> Style {
+    variant(space(name), k)
+}
+
 /// The style of the `k`-th parameter set of a scheme in a figure (colours after the spaces').
 pub fn scheme(name: &str, k: usize) -> Style {
     let n = crate::space::SPACES.len();

@@ -3,6 +3,7 @@
 use super::trajectory::Row;
 use crate::cases::Impact;
 use crate::exact::hertz::Hertz;
+use crate::exact::slide::Slide;
 
 /// Metrics of one run. `None` where a metric does not apply (no exact solution, 0D case, …).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -56,6 +57,21 @@ pub struct Metrics {
     pub err_contact_radius: Option<f64>,
     /// Hertz: at peak force, `|p_h − p₀(F_h)| / p₀(F_h)`, p_h the largest `λ_i / area_i`.
     pub err_peak_pressure: Option<f64>,
+    /// Slide (with friction): `max_n |v_h(t_n) − v(t_n)|`, the centre of mass's tangential
+    /// velocity against the rigid slide `v = max(v₀ − μ g t, 0)` ([`Slide`]).
+    pub slide_velocity_err: Option<f64>,
+    /// Slide: the first sample with `v_h ≤ v₀/100` (the rigid body stops at `v₀/(μ g)`); None
+    /// when the block still slides at the final time.
+    pub stop_time: Option<f64>,
+    /// Slide: the distance travelled by the centre of mass, `Σ_n Δt (v_h,n + v_h,n+1)/2` over
+    /// the run (the rigid body stops after `v₀²/(2 μ g)`).
+    pub stop_distance: Option<f64>,
+    /// With friction: `max_n |E_n + W_f,n − E_0| / |E_0|`, the energy balance with the friction
+    /// work (0 for a scheme that conserves the energy up to what friction dissipates).
+    pub friction_balance: Option<f64>,
+    /// With friction: `min_n (W_f,n+1 − W_f,n)`, the least work dissipated in a step (≥ 0: friction
+    /// never gives energy back).
+    pub friction_work_min_step: Option<f64>,
 }
 
 /// One metric column of `summary.csv`: its name, and how to read and set it (`None` is an empty
@@ -107,6 +123,11 @@ pub const METRIC_COLUMNS: &[MetricColumn] = metric_columns![
     err_contact_radius: optional,
     err_peak_pressure: optional,
     energy_drift_free: optional,
+    slide_velocity_err: optional,
+    stop_time: optional,
+    stop_distance: optional,
+    friction_balance: optional,
+    friction_work_min_step: optional,
 ];
 
 /// The energy drift to read first, and the other one ([`Metrics::drift`]).
@@ -277,8 +298,54 @@ pub fn compute(
         err_max_approach: None,
         err_contact_radius: None,
         err_peak_pressure: None,
+        ..Metrics::default()
     }
 }
+
+/// The friction metrics of a run with Coulomb friction (rows with `friction`): the energy
+/// balance `E + W_f = E(0)` and the least step of `W_f`, and with a rigid slide to compare with,
+/// the centre of mass's velocity error, its stopping time and distance. Nothing for a
+/// frictionless run.
+pub fn friction(m: &mut Metrics, rows: &[Row], slide: Option<&Slide>) {
+    let series: Vec<(f64, f64, f64)> = rows
+        .iter()
+        .filter_map(|r| r.friction.map(|(v, w)| (r.t, v, w)))
+        .collect();
+    if series.len() != rows.len() || rows.is_empty() {
+        return;
+    }
+    let e0 = rows[0].energy;
+    m.friction_balance = Some(relative(
+        rows.iter()
+            .zip(&series)
+            .map(|(r, s)| (r.energy + s.2 - e0).abs())
+            .fold(0.0, f64::max),
+        e0,
+    ));
+    m.friction_work_min_step = series.windows(2).map(|w| w[1].2 - w[0].2).reduce(f64::min);
+    let Some(slide) = slide else {
+        return;
+    };
+    m.slide_velocity_err = Some(
+        series
+            .iter()
+            .map(|s| (s.1 - slide.velocity(s.0)).abs())
+            .fold(0.0, f64::max),
+    );
+    m.stop_time = series
+        .iter()
+        .find(|s| s.1 <= STOPPED * slide.speed)
+        .map(|s| s.0);
+    m.stop_distance = Some(
+        series
+            .windows(2)
+            .map(|w| 0.5 * (w[1].0 - w[0].0) * (w[0].1 + w[1].1))
+            .sum(),
+    );
+}
+
+/// A block sliding slower than this fraction of v₀ has stopped ([`Metrics::stop_time`]).
+pub const STOPPED: f64 = 0.01;
 
 /// What an impact run measures against an impact model: the contact duration (first to last
 /// sample with a contact force, plus one step), the peak total force and the maximum approach

@@ -276,6 +276,7 @@ pub fn run_with_output(
     if let Some(i) = &impact {
         metrics::hertz(&mut metrics, &rows, (&vertex_lambda, vertex_area), i);
     }
+    metrics::friction(&mut metrics, &rows, case.slide().as_ref());
     peak.lambda = vertex_lambda;
     Ok(RunResult {
         rows,
