@@ -61,27 +61,26 @@ fn snapshot_text(r: &RunRecord) -> String {
             format!("restitution_eff: {}", opt(m.restitution_eff)),
             format!("impact_time_err: {}", opt(m.impact_time_err)),
         ]);
-        // Errors against Hertz (curved-body cases only, so that the others stay as they were).
-        let hertz = [
-            ("err_contact_duration", m.err_contact_duration),
-            ("err_peak_force", m.err_peak_force),
-            ("err_max_approach", m.err_max_approach),
-            ("err_contact_radius", m.err_contact_radius),
-            ("err_peak_pressure", m.err_peak_pressure),
+        // Errors against Hertz (curved-body cases only) and the friction metrics (runs with
+        // friction only), so that the others stay as they were.
+        let groups = [
+            vec![
+                ("err_contact_duration", m.err_contact_duration),
+                ("err_peak_force", m.err_peak_force),
+                ("err_max_approach", m.err_max_approach),
+                ("err_contact_radius", m.err_contact_radius),
+                ("err_peak_pressure", m.err_peak_pressure),
+            ],
+            vec![
+                ("slide_velocity_err", m.slide_velocity_err),
+                ("stop_time", m.stop_time),
+                ("stop_distance", m.stop_distance),
+                ("friction_balance", m.friction_balance),
+                ("friction_work_min_step", m.friction_work_min_step),
+            ],
         ];
-        if hertz.iter().any(|h| h.1.is_some()) {
-            lines.extend(hertz.iter().map(|(k, v)| format!("{k}: {}", opt(*v))));
-        }
-        // Friction metrics (runs with friction only, so that the others stay as they were).
-        let friction = [
-            ("slide_velocity_err", m.slide_velocity_err),
-            ("stop_time", m.stop_time),
-            ("stop_distance", m.stop_distance),
-            ("friction_balance", m.friction_balance),
-            ("friction_work_min_step", m.friction_work_min_step),
-        ];
-        if m.friction_balance.is_some() {
-            lines.extend(friction.iter().map(|(k, v)| format!("{k}: {}", opt(*v))));
+        for group in groups.iter().filter(|g| g.iter().any(|x| x.1.is_some())) {
+            lines.extend(group.iter().map(|(k, v)| format!("{k}: {}", opt(*v))));
         }
     }
     lines.join("\n")

@@ -10,11 +10,11 @@ use super::style;
 use crate::cases::CaseFile;
 use crate::error::Result;
 use crate::exact::slide::Slide;
-use crate::output::plot::{time_plot, Series};
+use crate::output::plot::{time_panels, Series};
 use crate::study::jobs::{RunRecord, Status};
 use crate::study::metrics::STOPPED;
 use crate::study::run::{run, Summary};
-use crate::util::unique;
+use crate::util::{group_by, unique};
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -315,7 +315,7 @@ pub fn figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> 
             .iter()
             .flat_map(|s| (0..sweep.schemes.len()).map(move |k| (s, k)))
             .collect();
-        let mut series: Vec<Series> = combos
+        let curves: Vec<(String, Series)> = combos
             .par_iter()
             .filter_map(|&(space, k)| {
                 let c = file
@@ -327,45 +327,51 @@ pub fn figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> 
                     .iter()
                     .filter_map(|x| x.friction.map(|f| (x.t, f.0)))
                     .collect();
-                let label = format!("{space}, {}", r.summary.method());
-                (!points.is_empty())
-                    .then(|| Series::new(label, points, style::space_variant(space, k)))
+                let style = style::space_variant(space, k);
+                (!points.is_empty()).then(|| {
+                    (
+                        space.clone(),
+                        Series::new(r.summary.method(), points, style),
+                    )
+                })
             })
             .collect();
-        if series.is_empty() {
+        let Some(first) = curves.first() else {
             continue;
-        }
-        let t_end = series[0].points.last().map_or(0.0, |p| p.0);
-        let n = series[0].points.len();
-        let rigid = (0..n)
-            .map(|i| {
-                let t = t_end * i as f64 / (n - 1).max(1) as f64;
-                (t, exact.velocity(t))
+        };
+        let rigid: Vec<(f64, f64)> = first
+            .1
+            .points
+            .iter()
+            .map(|p| (p.0, exact.velocity(p.0)))
+            .collect();
+        let panels: Vec<(String, Vec<Series>)> = group_by(curves, |c| c.0.clone())
+            .into_iter()
+            .map(|(space, curves)| {
+                let mut series: Vec<Series> = curves.into_iter().map(|c| c.1).collect();
+                series.push(Series::reference("rigid slide (v₀ − μgt)⁺", rigid.clone()));
+                (format!("{kind}: {space}"), series)
             })
             .collect();
-        series.push(Series::reference("rigid slide (v₀ − μgt)⁺", rigid));
         let name = format!("friction_{kind}_{}_com_velocity.png", sweep.name);
         let setting = level
             .elements
             .map_or(String::new(), |e| format!("{e} elements, "));
-        time_plot(
-            &out.join(&name),
-            &format!("{kind}: centre of mass velocity along the plane"),
-            "centre of mass velocity v_t",
-            &series,
-        )?;
+        time_panels(&out.join(&name), "centre of mass velocity v_t", &panels)?;
         figures.push(Figure {
             file: name,
             case: SECTION.into(),
             alt: format!(
-                "Line plot of the centre of mass's tangential velocity against time t, one \
-                 curve per space and scheme of {kind}'s sweep {}, and the rigid slide.",
+                "{} line plots side by side, one per space of {kind}'s sweep {}, of the centre \
+                 of mass's tangential velocity against time t, one curve per scheme and the \
+                 rigid slide.",
+                panels.len(),
                 sweep.name
             ),
             caption: format!(
                 "{kind} (sweep `{}`, {setting}dt = {}): the centre of mass's velocity along the \
-                 plane against time, one colour per space, one dash per scheme (the refused \
-                 schemes have no curve); the rigid slide `max(v₀ − μgt, 0)` dashed (μ = {}, \
+                 plane against time, one panel and colour per space, one dash per scheme (the \
+                 refused schemes have no curve); the rigid slide `max(v₀ − μgt, 0)` dashed (μ = {}, \
                  t* = {}).",
                 sweep.name,
                 level.dt,
