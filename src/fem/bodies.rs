@@ -4,7 +4,9 @@
 //! `M̃ = diag(M̃₁, M̃₂)`, `K = diag(K₁, K₂)`, and the contact rows pair the two bodies' Γ_C
 //! node-to-segment (small deformations: pairing, projection and normals in the reference
 //! configuration). Slave vertex s, master face F with vertices k, shape functions `N_k(ξ_s)` at
-//! the orthogonal projection ξ_s of X_s on F, unit outward master normal `n_m` (towards the slave):
+//! the orthogonal projection ξ_s of X_s on F (on a warped quadrilateral of a 3D hexahedral mesh:
+//! the point of the bilinear face whose offset to X_s is along F's averaged normal), unit outward
+//! master normal `n_m` (towards the slave; the face's averaged normal):
 //!
 //! `g = g₀ − B_N U ≥ 0`, `g₀ = (X_s − X_m(ξ_s))·n_m`, row of `B_N`: `−n_mᵀ` on s, `+N_k n_mᵀ` on k,
 //!
@@ -39,6 +41,8 @@ use crate::problem::{Contact, ContactFace, Inertia, Probe, Problem};
 
 /// Relative tolerance of a projection on a master face (beyond its ends, in face lengths).
 const PROJECTION_TOLERANCE: f64 = 1e-9;
+/// Newton iterations of a projection on a warped quadrilateral (converged to 1e-14 in a few).
+const NEWTON_ITERATIONS: usize = 30;
 
 /// The bodies of a multi-body case and their dof offsets.
 #[derive(Debug, Clone)]
@@ -173,7 +177,7 @@ impl Bodies {
             let mut best: Option<(f64, Vec<(usize, f64)>)> = None;
             for face in &m.contact_faces {
                 let x: Vec<[f64; 3]> = face.vertices.iter().map(|&k| m.mesh.nodes[k]).collect();
-                let Some(shape) = project(&x, xs)? else {
+                let Some(shape) = project(&x, face.normal, xs)? else {
                     continue;
                 };
                 let xm: [f64; 3] =
@@ -328,24 +332,93 @@ fn merge_velocity(spaces: &[&VelocitySpace]) -> VelocitySpace {
     }
 }
 
-/// The shape functions at the orthogonal projection of `p` on the straight face with vertices
-/// `x` (a point: `[1]`; a segment: `[1 − t, t]`), or None when it falls outside the face.
-fn project(x: &[[f64; 3]], p: [f64; 3]) -> Result<Option<Vec<f64>>> {
-    match x.len() {
-        1 => Ok(Some(vec![1.0])),
-        2 => {
-            let e: [f64; 3] = std::array::from_fn(|k| x[1][k] - x[0][k]);
-            let len2: f64 = e.iter().map(|v| v * v).sum();
-            let t = (0..3).map(|k| (p[k] - x[0][k]) * e[k]).sum::<f64>() / len2;
-            let tol = PROJECTION_TOLERANCE;
-            Ok((-tol..=1.0 + tol)
-                .contains(&t)
-                .then(|| vec![1.0 - t.clamp(0.0, 1.0), t.clamp(0.0, 1.0)]))
+/// The shape functions at the projection of `p` along the face's unit normal `n` on the face
+/// with vertices `x` (a point: `[1]`; a segment: `[1 − t, t]`; a triangle: `[1 − s − t, s, t]`;
+/// a quadrilateral in cyclic order: the bilinear `[(1 − s)(1 − t), s(1 − t), s t, (1 − s) t]`),
+/// or None when it falls outside the face. On a straight face this is the orthogonal projection;
+/// on a warped quadrilateral, the point whose offset to `p` is parallel to the face's averaged
+/// normal (Newton on the two tangential equations), so that the row's torque vanishes.
+fn project(x: &[[f64; 3]], n: [f64; 3], p: [f64; 3]) -> Result<Option<Vec<f64>>> {
+    let shape = |s: f64, t: f64| -> Vec<f64> {
+        match x.len() {
+            2 => vec![1.0 - s, s],
+            3 => vec![1.0 - s - t, s, t],
+            _ => vec![(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t],
         }
-        k => Err(Error::Unsupported(format!(
-            "node-to-segment pairing on faces of {k} vertices (3D) is not implemented"
-        ))),
+    };
+    // ∂N/∂s and ∂N/∂t.
+    let slopes = |s: f64, t: f64| -> [Vec<f64>; 2] {
+        match x.len() {
+            2 => [vec![-1.0, 1.0], vec![0.0, 0.0]],
+            3 => [vec![-1.0, 1.0, 0.0], vec![-1.0, 0.0, 1.0]],
+            _ => [
+                vec![-(1.0 - t), 1.0 - t, t, -t],
+                vec![-(1.0 - s), -s, s, 1.0 - s],
+            ],
+        }
+    };
+    let combine = |w: &[f64]| -> [f64; 3] {
+        std::array::from_fn(|k| w.iter().zip(x).map(|(w, y)| w * y[k]).sum())
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| (0..3).map(|k| a[k] * b[k]).sum::<f64>();
+    match x.len() {
+        1 => return Ok(Some(vec![1.0])),
+        2..=4 => {}
+        k => {
+            return Err(Error::Unsupported(format!(
+                "node-to-segment pairing on faces of {k} vertices"
+            )))
+        }
     }
+    let (mut s, mut t) = if x.len() == 2 {
+        (0.5, 0.0)
+    } else {
+        (1.0 / 3.0, 1.0 / 3.0)
+    };
+    for _ in 0..NEWTON_ITERATIONS {
+        let xm = combine(&shape(s, t));
+        let r: [f64; 3] = std::array::from_fn(|k| xm[k] - p[k]);
+        let [ds, dt] = slopes(s, t).map(|w| combine(&w));
+        // The tangential part of the residual: r − (r·n) n, and the tangents' likewise.
+        let tangential = |v: [f64; 3]| -> [f64; 3] {
+            let vn = dot(v, n);
+            std::array::from_fn(|k| v[k] - vn * n[k])
+        };
+        let (r, a, b) = (tangential(r), tangential(ds), tangential(dt));
+        let step = if x.len() == 2 {
+            [dot(r, a) / dot(a, a), 0.0]
+        } else {
+            // Least squares on the tangent plane: [a b]ᵀ[a b] (δs, δt) = [a b]ᵀ r.
+            let (aa, ab, bb) = (dot(a, a), dot(a, b), dot(b, b));
+            let det = aa * bb - ab * ab;
+            let (ra, rb) = (dot(r, a), dot(r, b));
+            [(bb * ra - ab * rb) / det, (aa * rb - ab * ra) / det]
+        };
+        s -= step[0];
+        t -= step[1];
+        if step[0].abs().max(step[1].abs()) < 1e-14 {
+            break;
+        }
+    }
+    let tol = PROJECTION_TOLERANCE;
+    let inside = match x.len() {
+        2 => (-tol..=1.0 + tol).contains(&s),
+        3 => s >= -tol && t >= -tol && s + t <= 1.0 + tol,
+        _ => (-tol..=1.0 + tol).contains(&s) && (-tol..=1.0 + tol).contains(&t),
+    };
+    if !(inside && s.is_finite() && t.is_finite()) {
+        return Ok(None);
+    }
+    let (s, t) = match x.len() {
+        2 => (s.clamp(0.0, 1.0), 0.0),
+        3 => {
+            let (s, t) = (s.max(0.0), t.max(0.0));
+            let over = (s + t - 1.0).max(0.0);
+            (s - 0.5 * over, t - 0.5 * over)
+        }
+        _ => (s.clamp(0.0, 1.0), t.clamp(0.0, 1.0)),
+    };
+    Ok(Some(shape(s, t)))
 }
 
 #[cfg(test)]
@@ -523,18 +596,34 @@ mod tests {
         assert!((total - 2.0).abs() < 1e-12, "total mass {total}");
     }
 
-    /// 2D node-to-segment: a vertex above the middle of a master segment gets shape functions
-    /// (½, ½), the master's normal and g₀ = its height; a vertex beyond the master's ends gets no
-    /// row; 3D faces are refused.
+    /// Node-to-segment projection: a vertex above the middle of a master segment gets shape
+    /// functions (½, ½), one beyond its ends gets none; on a triangle the barycentric
+    /// coordinates; on a warped quadrilateral (one vertex lifted) the bilinear shape functions
+    /// at the point whose offset to the vertex is along the face normal: they sum to 1 and
+    /// reproduce the point, `Σ N_k x_k = p − g₀ n`.
     #[test]
     fn node_to_segment_projects_on_the_master_face() {
+        let up = [0.0, 1.0, 0.0];
         let face = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
-        assert_eq!(
-            project(&face, [1.0, 0.3, 0.0]).unwrap(),
-            Some(vec![0.5, 0.5])
-        );
-        assert_eq!(project(&face, [2.5, 0.3, 0.0]).unwrap(), None);
+        let near = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-14);
+        let n = project(&face, up, [1.0, 0.3, 0.0]).unwrap().unwrap();
+        assert!(near(&n, &[0.5, 0.5]), "{n:?}");
+        assert_eq!(project(&face, up, [2.5, 0.3, 0.0]).unwrap(), None);
+        let z = [0.0, 0.0, 1.0];
         let tri = [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-        assert!(project(&tri, [0.1, 0.1, 0.0]).is_err());
+        let n = project(&tri, z, [0.2, 0.1, 0.5]).unwrap().unwrap();
+        assert!(near(&n, &[0.7, 0.2, 0.1]), "{n:?}");
+        assert_eq!(project(&tri, z, [0.8, 0.8, 0.5]).unwrap(), None);
+        let quad = [[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.2], [0.0, 1.0, 0.0]];
+        let p = [0.7, 0.4, 0.9];
+        let n = project(&quad, z, p).unwrap().unwrap();
+        assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+        let xm: Vec<f64> = (0..3)
+            .map(|k| n.iter().zip(&quad).map(|(w, x)| w * x[k]).sum())
+            .collect();
+        assert!(near(&xm[..2], &p[..2]), "{xm:?}");
+        assert!((xm[2] - 0.2 * 0.7 * 0.4).abs() < 1e-14, "{xm:?}");
+        assert_eq!(project(&quad, z, [1.2, 0.5, 0.0]).unwrap(), None);
+        assert!(project(&[[0.0; 3]; 5], z, p).is_err());
     }
 }
