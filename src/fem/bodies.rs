@@ -39,8 +39,14 @@ use crate::fem::mass_model::{ElementMass, ElementMixed, MassModel, VelocitySpace
 use crate::linalg::{SpMat, TripletBuilder};
 use crate::problem::{Contact, ContactFace, Inertia, Probe, Problem};
 
-/// Relative tolerance of a projection on a master face (beyond its ends, in face lengths).
+/// Distance, in master mesh sizes h, within which two faces' projected points are one point
+/// (an edge or vertex where their normals are averaged).
 const PROJECTION_TOLERANCE: f64 = 1e-9;
+/// How far (in reference coordinates of the face) a projection may fall outside every master
+/// face and still be paired, clamped onto the nearest: above a convex master's kink the
+/// projections along the two faces' normals miss both by about `g₀ / R` (R the radius of
+/// curvature); a slave vertex further beyond the master's Γ_C gets no row.
+const MAX_EXCESS: f64 = 0.25;
 /// Newton iterations of a projection on a warped quadrilateral (converged to 1e-14 in a few).
 const NEWTON_ITERATIONS: usize = 30;
 
@@ -166,37 +172,60 @@ impl Bodies {
         }
     }
 
-    /// The node-to-segment rows of the slave body's Γ_C vertices on the master body's Γ_C faces
-    /// (nearest face containing the projection; ties: the first).
+    /// The node-to-segment rows of the slave body's Γ_C vertices on the master body's Γ_C faces:
+    /// the face containing the projection (else the one it misses by least, within
+    /// [`MAX_EXCESS`], the projection clamped onto it: the dead zones above a convex master's
+    /// kinks), nearest in |g₀| among ties; the normal is the mean of the normals of the faces
+    /// meeting at the projected point (one inside a face, two on an edge, all around a vertex).
     pub fn pairings(&self, slave: usize, master: usize) -> Result<Vec<Pairing>> {
         let (s, m) = (&self.parts[slave], &self.parts[master]);
         let d = self.dim();
+        let dot = |a: [f64; 3], b: [f64; 3]| (0..d).map(|k| a[k] * b[k]).sum::<f64>();
         let mut out = Vec::new();
         for (r, &(i, _)) in s.contact_vertices.iter().enumerate() {
             let xs = s.mesh.nodes[i];
-            let mut best: Option<(f64, Vec<(usize, f64)>)> = None;
+            // (excess, |g₀| along the face's normal, point, shape functions, face)
+            let mut candidates = Vec::new();
             for face in &m.contact_faces {
                 let x: Vec<[f64; 3]> = face.vertices.iter().map(|&k| m.mesh.nodes[k]).collect();
-                let Some(shape) = project(&x, face.normal, xs)? else {
+                let Some((excess, shape)) = project(&x, face.normal, xs)? else {
                     continue;
                 };
-                let xm: [f64; 3] =
-                    std::array::from_fn(|k| shape.iter().zip(&x).map(|(n, p)| n * p[k]).sum());
-                let g0: f64 = (0..d).map(|k| (xs[k] - xm[k]) * face.normal[k]).sum();
-                if best.as_ref().map_or(true, |b| g0.abs() < b.0.abs()) {
-                    let mut row: Vec<(usize, f64)> = (0..d)
-                        .map(|c| (self.global(slave, i, c), -face.normal[c]))
-                        .collect();
-                    for (&k, n) in face.vertices.iter().zip(&shape) {
-                        row.extend((0..d).map(|c| (self.global(master, k, c), n * face.normal[c])));
-                    }
-                    row.retain(|e| e.1 != 0.0);
-                    best = Some((g0, row));
+                if excess <= MAX_EXCESS {
+                    let xm: [f64; 3] =
+                        std::array::from_fn(|k| shape.iter().zip(&x).map(|(n, p)| n * p[k]).sum());
+                    let g0 = dot(std::array::from_fn(|k| xs[k] - xm[k]), face.normal);
+                    candidates.push((excess, g0.abs(), xm, shape, face));
                 }
             }
-            if let Some((g0, row)) = best {
-                out.push(Pairing { slave: r, row, g0 });
+            let Some(best) = candidates
+                .iter()
+                .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)))
+            else {
+                continue;
+            };
+            let (xm, shape, face) = (best.2, &best.3, best.4);
+            let tol = PROJECTION_TOLERANCE * m.mesh.h;
+            let mut normal = [0.0; 3];
+            for c in candidates
+                .iter()
+                .filter(|c| (0..3).map(|k| (c.2[k] - xm[k]).powi(2)).sum::<f64>().sqrt() <= tol)
+            {
+                for (n, x) in normal.iter_mut().zip(c.4.normal) {
+                    *n += x;
+                }
             }
+            let len = dot(normal, normal).sqrt();
+            let normal: [f64; 3] = std::array::from_fn(|k| normal[k] / len);
+            let g0 = dot(std::array::from_fn(|k| xs[k] - xm[k]), normal);
+            let mut row: Vec<(usize, f64)> = (0..d)
+                .map(|c| (self.global(slave, i, c), -normal[c]))
+                .collect();
+            for (&k, n) in face.vertices.iter().zip(shape) {
+                row.extend((0..d).map(|c| (self.global(master, k, c), n * normal[c])));
+            }
+            row.retain(|e| e.1 != 0.0);
+            out.push(Pairing { slave: r, row, g0 });
         }
         if out.is_empty() {
             return Err(Error::Mesh {
@@ -332,13 +361,14 @@ fn merge_velocity(spaces: &[&VelocitySpace]) -> VelocitySpace {
     }
 }
 
-/// The shape functions at the projection of `p` along the face's unit normal `n` on the face
-/// with vertices `x` (a point: `[1]`; a segment: `[1 − t, t]`; a triangle: `[1 − s − t, s, t]`;
-/// a quadrilateral in cyclic order: the bilinear `[(1 − s)(1 − t), s(1 − t), s t, (1 − s) t]`),
-/// or None when it falls outside the face. On a straight face this is the orthogonal projection;
+/// The projection of `p` along the face's unit normal `n` on the face with vertices `x`: how far
+/// outside the face it falls (in reference coordinates, 0 inside) and the shape functions at
+/// the nearest point of the face (a point: `[1]`; a segment: `[1 − t, t]`; a triangle:
+/// `[1 − s − t, s, t]`; a quadrilateral in cyclic order: the bilinear
+/// `[(1 − s)(1 − t), s(1 − t), s t, (1 − s) t]`); None when Newton fails. On a straight face this is the orthogonal projection;
 /// on a warped quadrilateral, the point whose offset to `p` is parallel to the face's averaged
 /// normal (Newton on the two tangential equations), so that the row's torque vanishes.
-fn project(x: &[[f64; 3]], n: [f64; 3], p: [f64; 3]) -> Result<Option<Vec<f64>>> {
+fn project(x: &[[f64; 3]], n: [f64; 3], p: [f64; 3]) -> Result<Option<(f64, Vec<f64>)>> {
     let shape = |s: f64, t: f64| -> Vec<f64> {
         match x.len() {
             2 => vec![1.0 - s, s],
@@ -362,7 +392,7 @@ fn project(x: &[[f64; 3]], n: [f64; 3], p: [f64; 3]) -> Result<Option<Vec<f64>>>
     };
     let dot = |a: [f64; 3], b: [f64; 3]| (0..3).map(|k| a[k] * b[k]).sum::<f64>();
     match x.len() {
-        1 => return Ok(Some(vec![1.0])),
+        1 => return Ok(Some((0.0, vec![1.0]))),
         2..=4 => {}
         k => {
             return Err(Error::Unsupported(format!(
@@ -400,15 +430,15 @@ fn project(x: &[[f64; 3]], n: [f64; 3], p: [f64; 3]) -> Result<Option<Vec<f64>>>
             break;
         }
     }
-    let tol = PROJECTION_TOLERANCE;
-    let inside = match x.len() {
-        2 => (-tol..=1.0 + tol).contains(&s),
-        3 => s >= -tol && t >= -tol && s + t <= 1.0 + tol,
-        _ => (-tol..=1.0 + tol).contains(&s) && (-tol..=1.0 + tol).contains(&t),
-    };
-    if !(inside && s.is_finite() && t.is_finite()) {
+    if !(s.is_finite() && t.is_finite()) {
         return Ok(None);
     }
+    let excess = match x.len() {
+        2 => (-s).max(s - 1.0),
+        3 => (-s).max(-t).max(s + t - 1.0),
+        _ => (-s).max(s - 1.0).max(-t).max(t - 1.0),
+    }
+    .max(0.0);
     let (s, t) = match x.len() {
         2 => (s.clamp(0.0, 1.0), 0.0),
         3 => {
@@ -418,7 +448,7 @@ fn project(x: &[[f64; 3]], n: [f64; 3], p: [f64; 3]) -> Result<Option<Vec<f64>>>
         }
         _ => (s.clamp(0.0, 1.0), t.clamp(0.0, 1.0)),
     };
-    Ok(Some(shape(s, t)))
+    Ok(Some((excess, shape(s, t))))
 }
 
 #[cfg(test)]
@@ -597,33 +627,99 @@ mod tests {
     }
 
     /// Node-to-segment projection: a vertex above the middle of a master segment gets shape
-    /// functions (½, ½), one beyond its ends gets none; on a triangle the barycentric
-    /// coordinates; on a warped quadrilateral (one vertex lifted) the bilinear shape functions
-    /// at the point whose offset to the vertex is along the face normal: they sum to 1 and
-    /// reproduce the point, `Σ N_k x_k = p − g₀ n`.
+    /// functions (½, ½); one beyond its end misses it by the excess (¼ face), the shape
+    /// functions of the end; on a triangle the barycentric coordinates; on a warped
+    /// quadrilateral (one vertex lifted) the bilinear shape functions at the point whose offset
+    /// to the vertex is along the face normal: they sum to 1 and reproduce the point,
+    /// `Σ N_k x_k = p − g₀ n`.
     #[test]
     fn node_to_segment_projects_on_the_master_face() {
         let up = [0.0, 1.0, 0.0];
         let face = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
         let near = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-14);
-        let n = project(&face, up, [1.0, 0.3, 0.0]).unwrap().unwrap();
-        assert!(near(&n, &[0.5, 0.5]), "{n:?}");
-        assert_eq!(project(&face, up, [2.5, 0.3, 0.0]).unwrap(), None);
+        let (excess, n) = project(&face, up, [1.0, 0.3, 0.0]).unwrap().unwrap();
+        assert!(excess == 0.0 && near(&n, &[0.5, 0.5]), "{n:?}");
+        let (excess, n) = project(&face, up, [2.5, 0.3, 0.0]).unwrap().unwrap();
+        assert!(
+            (excess - 0.25).abs() < 1e-14 && near(&n, &[0.0, 1.0]),
+            "{excess} {n:?}"
+        );
         let z = [0.0, 0.0, 1.0];
         let tri = [[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-        let n = project(&tri, z, [0.2, 0.1, 0.5]).unwrap().unwrap();
-        assert!(near(&n, &[0.7, 0.2, 0.1]), "{n:?}");
-        assert_eq!(project(&tri, z, [0.8, 0.8, 0.5]).unwrap(), None);
+        let (excess, n) = project(&tri, z, [0.2, 0.1, 0.5]).unwrap().unwrap();
+        assert!(excess == 0.0 && near(&n, &[0.7, 0.2, 0.1]), "{n:?}");
+        let (excess, _) = project(&tri, z, [0.8, 0.8, 0.5]).unwrap().unwrap();
+        assert!((excess - 0.6).abs() < 1e-14, "{excess}");
         let quad = [[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.2], [0.0, 1.0, 0.0]];
         let p = [0.7, 0.4, 0.9];
-        let n = project(&quad, z, p).unwrap().unwrap();
-        assert!((n.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+        let (excess, n) = project(&quad, z, p).unwrap().unwrap();
+        assert!(excess == 0.0 && (n.iter().sum::<f64>() - 1.0).abs() < 1e-14);
         let xm: Vec<f64> = (0..3)
             .map(|k| n.iter().zip(&quad).map(|(w, x)| w * x[k]).sum())
             .collect();
         assert!(near(&xm[..2], &p[..2]), "{xm:?}");
         assert!((xm[2] - 0.2 * 0.7 * 0.4).abs() < 1e-14, "{xm:?}");
-        assert_eq!(project(&quad, z, [1.2, 0.5, 0.0]).unwrap(), None);
+        assert!(project(&quad, z, [1.2, 0.5, 0.0]).unwrap().unwrap().0 > 0.19);
         assert!(project(&[[0.0; 3]; 5], z, p).is_err());
+    }
+
+    /// A convex master (two segments meeting at a kink of 0.2 rad below the slave vertex at
+    /// height 0.5): the projections along both faces' normals miss them (the dead zone), the
+    /// vertex is paired with the kink itself and the mean normal, the bisector `e_y`; its row
+    /// still annihilates both translations.
+    #[test]
+    fn a_vertex_above_a_convex_kink_gets_the_mean_normal() {
+        use crate::mesh::{Face, Mesh};
+        let q1 = crate::element::reference::RefElement {
+            shape: crate::element::reference::Shape::Tensor,
+            dim: 2,
+            degree: 1,
+        };
+        let a = 0.1_f64;
+        let (c, s) = (a.cos(), a.sin());
+        let mesh = |nodes: Vec<[f64; 3]>| Mesh {
+            origin: "test".into(),
+            element: q1,
+            nodes,
+            connectivity: vec![vec![0, 1, 2, 3]],
+            h: 1.0,
+            contact_faces: None,
+        };
+        // The master's top: (−c, −s) – (0, 0) – (c, −s), outward normals (±s, c).
+        let mut master = bar(0.0, 1.0, 1, 1);
+        master.mesh = mesh(vec![
+            [-c, -s, 0.0],
+            [0.0, 0.0, 0.0],
+            [c, -s, 0.0],
+            [0.0, -2.0, 0.0],
+        ]);
+        let face = |v: Vec<usize>, normal: [f64; 3]| Face {
+            vertices: v,
+            measure: 1.0,
+            normal,
+            cell: 0,
+            local: vec![],
+        };
+        master.contact_faces = vec![
+            face(vec![0, 1], [-s, c, 0.0]),
+            face(vec![1, 2], [s, c, 0.0]),
+        ];
+        master.dofs = crate::fem::dofs::DofMap::free(4, 2);
+        let mut slave = master.clone();
+        slave.mesh = mesh(vec![
+            [0.0, 0.5, 0.0],
+            [1.0, 0.5, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ]);
+        slave.contact_vertices = vec![(0, 1.0)];
+        let b = Bodies::new(vec![slave, master]).unwrap();
+        let p = &b.pairings(0, 1).unwrap()[0];
+        assert!((p.g0 - 0.5).abs() < 1e-14, "{p:?}");
+        assert_eq!(p.row[0], (1, -1.0));
+        for comp in 0..2 {
+            let sum: f64 = p.row.iter().filter(|e| e.0 % 2 == comp).map(|e| e.1).sum();
+            assert!(sum.abs() < 1e-14, "{p:?}");
+        }
     }
 }
