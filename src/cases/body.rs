@@ -202,7 +202,7 @@ fn per_cell(element: &RefElement) -> f64 {
     }
 }
 
-fn check_material(m: &Material) -> Result<()> {
+pub(super) fn check_material(m: &Material) -> Result<()> {
     positive("material.young", m.young)?;
     positive("material.density", m.density)?;
     if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
@@ -238,20 +238,19 @@ fn generated_element(cells: &str, dim: usize, degree: usize) -> Result<RefElemen
     Ok(RefElement { shape, dim, degree })
 }
 
-/// The mesh the spec describes (a file when given, else the generated shape) and the rule that
-/// selects Γ_C on it.
-fn build_mesh(
-    spec: &BodySpec,
+/// The mesh a body's geometry, mesh and contact tables describe (a file when given, else the
+/// generated shape) and the rule that selects Γ_C on it.
+pub(super) fn build_mesh(
+    (g, spec_mesh, contact): (&Geometry, &MeshSpec, &ContactSpec),
     o: &Overrides,
     kind: &str,
     dim: usize,
 ) -> Result<(Mesh, ContactRule)> {
-    let g = &spec.geometry;
-    let facing = match spec.contact.facing {
+    let facing = match contact.facing {
         Some(t) => crate::error::in_range("contact.facing", t, 0.0, 1.0)?,
         None => FACING,
     };
-    if let Some(file) = o.mesh.as_ref().or(spec.mesh.file.as_ref()) {
+    if let Some(file) = o.mesh.as_ref().or(spec_mesh.file.as_ref()) {
         // The file fixes the cells, their shape and degree.
         let generated = [
             ("--elements", o.elements.map(|n| n.to_string())),
@@ -268,11 +267,11 @@ fn build_mesh(
                 ),
             ));
         }
-        let group = spec.contact.group.as_deref().unwrap_or("contact");
+        let group = contact.group.as_deref().unwrap_or("contact");
         let mesh = crate::mesh::gmsh::read(file, dim, group)?;
         return Ok((mesh, ContactRule::Tagged));
     }
-    if let Some(group) = &spec.contact.group {
+    if let Some(group) = &contact.group {
         return Err(Error::invalid(
             "contact.group",
             group,
@@ -280,10 +279,10 @@ fn build_mesh(
              takes Γ_C by contact.facing",
         ));
     }
-    let degree = o.degree.unwrap_or(spec.mesh.degree);
-    let cells = o.cells.as_deref().unwrap_or(&spec.mesh.cells);
+    let degree = o.degree.unwrap_or(spec_mesh.degree);
+    let cells = o.cells.as_deref().unwrap_or(&spec_mesh.cells);
     let element = generated_element(cells, dim, degree)?;
-    let n = o.elements.unwrap_or(spec.mesh.elements);
+    let n = o.elements.unwrap_or(spec_mesh.elements);
     if n == 0 {
         return Err(Error::invalid("mesh.elements", n, "must be ≥ 1"));
     }
@@ -338,7 +337,7 @@ fn build_mesh(
             let cells = nf.powi(dim as i32) * (1.0 + dim as f64) * per_cell(&element);
             let nodes = ((degree * n + 1) as f64).powi(dim as i32) * (1.0 + dim as f64);
             crate::util::check_memory("mesh.elements", n, assembly_bytes(&element, cells, nodes))?;
-            crate::mesh::curved::round_body(element, n, radius, spec.mesh.grading)?
+            crate::mesh::curved::round_body(element, n, radius, spec_mesh.grading)?
         }
         other => {
             return Err(Error::invalid(
@@ -378,7 +377,7 @@ impl Body {
             -0.5 * std::f64::consts::PI,
             0.5 * std::f64::consts::PI,
         )?;
-        let (mesh, rule) = build_mesh(&spec, o, kind, dim)?;
+        let (mesh, rule) = build_mesh((g, &spec.mesh, &spec.contact), o, kind, dim)?;
         let hertz = if kind.starts_with("hertz") {
             let radius = g.radius.ok_or_else(|| {
                 Error::invalid(
@@ -443,6 +442,24 @@ impl Body {
             sweeps: spec.sweep,
             history: spec.history,
         })
+    }
+}
+
+impl Body {
+    /// The centre of mass's weights `(dof, w = ∫ρ φ_i / m)` on the components along e_d (its
+    /// displacement towards the plane is `−Σ w U_dof`) and the discrete mass `m = Σ ∫ρ φ_i`.
+    pub fn centre(&self) -> (Vec<(usize, f64)>, f64) {
+        let fem = &self.fem;
+        let d = fem.dim();
+        let w = fem.nodal_masses(&fem.mass_model());
+        let m: f64 = w.iter().sum();
+        let centre = w
+            .iter()
+            .enumerate()
+            .filter(|(_, &x)| x != 0.0)
+            .map(|(i, x)| (i * d + d - 1, x / m))
+            .collect();
+        (centre, m)
     }
 }
 
@@ -522,18 +539,11 @@ impl Case for Body {
     fn impact(&self) -> Option<super::Impact> {
         let hertz = self.hertz?;
         let fem = &self.fem;
-        let d = fem.dim();
-        let w = fem.nodal_masses(&fem.mass_model());
-        let m: f64 = w.iter().sum();
+        let (centre, mass) = self.centre();
         Some(super::Impact {
             hertz,
-            centre: w
-                .iter()
-                .enumerate()
-                .filter(|(_, &x)| x != 0.0)
-                .map(|(i, x)| (i * d + d - 1, x / m))
-                .collect(),
-            mass: m,
+            centre,
+            mass,
             positions: fem
                 .contact_vertices
                 .iter()

@@ -12,6 +12,7 @@ pub mod body;
 pub mod spring_mass;
 pub mod sweep;
 pub mod two_bars;
+pub mod two_bodies;
 
 use crate::error::{positive, Error, Result};
 use crate::exact::ExactContact;
@@ -73,6 +74,11 @@ pub trait Case: Send + Sync {
     /// The rigid-body slide its centre of mass follows (the slide cases), if any.
     fn slide(&self) -> Option<crate::exact::slide::Slide> {
         None
+    }
+    /// Each body of a multi-body case alone against the rigid plane, in its own frame (empty
+    /// for a single body): the finite-body reference of a pair adds theirs.
+    fn bodies(&self) -> Vec<&dyn Case> {
+        Vec::new()
     }
 }
 
@@ -427,6 +433,8 @@ pub const CASES: &[&str] = &[
     "slide3d",
     "roll2d",
     "two_bars",
+    "two_discs",
+    "two_spheres",
 ];
 
 #[derive(Deserialize)]
@@ -442,6 +450,7 @@ enum Spec {
     Body(Box<body::BodySpec>),
     SpringMass(spring_mass::SpringMassSpec),
     TwoBars(two_bars::TwoBarsSpec),
+    TwoBodies(Box<two_bodies::TwoBodiesSpec>),
 }
 
 /// A case file read and parsed once per command: its path, the hash of its text (the content
@@ -487,6 +496,7 @@ impl CaseFile {
             }
             "spring_mass" => Spec::SpringMass(spec_from_str(&text, path)?),
             "two_bars" => Spec::TwoBars(spec_from_str(&text, path)?),
+            "two_discs" | "two_spheres" => Spec::TwoBodies(Box::new(spec_from_str(&text, path)?)),
             other => {
                 return Err(Error::UnknownName {
                     kind: "case",
@@ -520,6 +530,10 @@ impl CaseFile {
                 &["--mesh", "--cells", "--friction"],
                 "applies to the 2D/3D body cases only",
             ),
+            Spec::TwoBodies(_) => (
+                &["--mesh", "--friction"],
+                "applies to one body: two bodies are generated meshes in frictionless contact",
+            ),
             Spec::SpringMass(_) => (
                 &["--mesh", "--cells", "--elements", "--degree", "--friction"],
                 "applies to meshed cases only: spring_mass has one dof",
@@ -550,6 +564,9 @@ impl CaseFile {
                 overrides,
             )?),
             Spec::TwoBars(s) => Box::new(two_bars::TwoBars::from_spec(s.clone(), overrides)?),
+            Spec::TwoBodies(s) => {
+                Box::new(two_bodies::TwoBodies::from_spec(*s.clone(), overrides)?)
+            }
         })
     }
 }

@@ -66,8 +66,12 @@ impl StaticPoint {
 }
 
 /// Measures the finite-body law of `case` (a sphere against Hertz: an error otherwise) at the
-/// [`LOADS`] and fits its coefficient.
+/// [`LOADS`] and fits its coefficient; for two bodies ([`Case::bodies`]), [`in_series`].
 pub fn finite_body(case: &dyn Case) -> Result<FiniteBody> {
+    let parts = case.bodies();
+    if !parts.is_empty() {
+        return in_series(case, &parts);
+    }
     let impact = case.impact().filter(|i| i.hertz.dim == 3).ok_or_else(|| {
         Error::Unsupported(format!(
             "the finite-body law needs a sphere against Hertz, not {}",
@@ -93,6 +97,34 @@ pub fn finite_body(case: &dyn Case) -> Result<FiniteBody> {
         hertz: half_space.finite_body(impact.mass, compliance)?,
         half_space,
         points,
+    })
+}
+
+/// Two bodies in series: each body's law measured alone against the plane, the approaches of
+/// their centres add, so the pair's far-field terms add to Hertz's approach of the pair (its
+/// `R*`, `E*`): `δ(F) = (F/k*)^{2/3} − (c_{f,1} + c_{f,2}) F`. For two equal bodies this is
+/// exactly `δ₁(F) + δ₂(F)` (`(F/k*)^{2/3} = 2 (F/k₁)^{2/3}`: each body sees the contact radius
+/// and pressure of its impact on the plane); otherwise the far-field terms are taken at the
+/// bodies' own contact radii. `points` are body 1's then body 2's; `coefficient` is
+/// `(c_{f,1} + c_{f,2}) E* R*` of the pair.
+pub fn in_series(case: &dyn Case, parts: &[&dyn Case]) -> Result<FiniteBody> {
+    let impact = case.impact().filter(|i| i.hertz.dim == 3).ok_or_else(|| {
+        Error::Unsupported(format!(
+            "the finite-body law of two bodies needs two spheres against Hertz, not {}",
+            case.kind()
+        ))
+    })?;
+    let laws = parts
+        .iter()
+        .map(|&p| finite_body(p))
+        .collect::<Result<Vec<_>>>()?;
+    let compliance: f64 = laws.iter().map(|l| l.hertz.compliance).sum();
+    let half_space = impact.hertz.finite_body(impact.mass, 0.0)?;
+    Ok(FiniteBody {
+        points: laws.iter().flat_map(|l| l.points.iter().copied()).collect(),
+        coefficient: compliance * half_space.e_star * half_space.radius,
+        hertz: half_space.finite_body(impact.mass, compliance)?,
+        half_space,
     })
 }
 

@@ -1,0 +1,400 @@
+//! `two_discs` / `two_spheres`: two free elastic bodies meeting along the line of impact e_d
+//! (issue 24 §2; `notes/papers/two_body_contact.md`), the curved-body impact of
+//! [`super::body`] with the rigid plane replaced by a second body.
+//!
+//! Body 1 (the slave) is the body of a `hertz2d`/`hertz3d` case file: generated touching
+//! `x_d = 0` from above (or lifted by `geometry.lift`), moving at `geometry.velocity < 0`. Body 2
+//! (the master) is the same body, or the one `[master]` describes (its own material, geometry,
+//! mesh, contact; a `box` is centred under body 1), generated the same way and turned upside
+//! down by a rotation of π (2D: `(x, y) ↦ (−x, −y)`; 3D: `(x, y, z) ↦ (x, −y, −z)`, which keeps
+//! the cells' orientation); it moves towards body 1 at `|velocity|` of its own table (default:
+//! body 1's, the equal and opposite velocities ±v/2 of a pair in its centre-of-mass frame).
+//! The slave's Γ_C vertices are paired node-to-segment on the master's Γ_C faces
+//! ([`crate::fem::bodies`]); no external force, so the momentum `(M̃ 1_d)ᵀ V` is an invariant.
+//!
+//! **Hertz reference** (Johnson 1985, §4.2): two curved bodies in contact are Hertz's body of
+//! relative curvature `1/R* = 1/R₁ + 1/R₂` (a box: 0), modulus `1/E* = Σ (1 − ν_i²)/E_i` and
+//! reduced mass `m* = m₁ m₂ / (m₁ + m₂)` at the relative speed `v = |v₁| + |v₂|`; for two equal
+//! bodies `R* = R/2`, `E* = E₁*/2`, `m* = m/2`. In 2D the check is the pressure profile at peak
+//! force (half-width `b = √(4 P R* / (π E*))`), as for `hertz2d`. Each body alone against the
+//! plane is a `hertz2d`/`hertz3d` (or `block2d`/`block3d`) case ([`Case::bodies`]): the
+//! finite-body reference of the pair adds their compliances ([`crate::study::finite_body`]).
+
+use super::body::{Body, BodySpec, ContactSpec, Geometry, Material, MeshSpec};
+use super::sweep::{HistorySpec, SweepSpec};
+use super::{Case, FieldError, Impact, Overrides, RunSpec};
+use crate::error::{Error, Result};
+use crate::exact::hertz::Hertz;
+use crate::exact::ExactContact;
+use crate::fem::bodies::Bodies;
+use crate::fem::discretisation::{Discretisation, Initial};
+use crate::problem::Problem;
+use crate::space::Space;
+use serde::Deserialize;
+
+/// Case kinds of this module with their dimension.
+pub const KINDS: &[(&str, usize)] = &[("two_discs", 2), ("two_spheres", 3)];
+
+/// `[master]`: body 2 where it differs from body 1 (each table in full, as body 1's).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MasterSpec {
+    /// Its material (default: body 1's).
+    #[serde(default)]
+    pub material: Option<Material>,
+    /// Its shape and velocity towards body 1 (negative; default: body 1's).
+    #[serde(default)]
+    pub geometry: Option<Geometry>,
+    /// Its mesh (default: body 1's).
+    #[serde(default)]
+    pub mesh: Option<MeshSpec>,
+    /// Its Γ_C (default: body 1's rule).
+    #[serde(default)]
+    pub contact: Option<ContactSpec>,
+}
+
+/// The whole case file of two bodies.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TwoBodiesSpec {
+    /// One of [`KINDS`].
+    pub case: String,
+    /// Units statement.
+    pub units: String,
+    /// Body 1's material (and body 2's unless `[master]` gives one).
+    pub material: Material,
+    /// Body 1's shape, velocity towards body 2 (< 0) and gap (`lift`).
+    pub geometry: Geometry,
+    /// Body 1's mesh.
+    pub mesh: MeshSpec,
+    /// Body 1's Γ_C.
+    #[serde(default)]
+    pub contact: ContactSpec,
+    /// Body 2 where it differs.
+    #[serde(default)]
+    pub master: MasterSpec,
+    /// Run defaults.
+    pub run: RunSpec,
+    /// Sweeps.
+    #[serde(default)]
+    pub sweep: Vec<SweepSpec>,
+    /// Time histories for the report.
+    #[serde(default)]
+    pub history: Vec<HistorySpec>,
+}
+
+/// A validated two-body case.
+#[derive(Debug, Clone)]
+pub struct TwoBodies {
+    kind: &'static str,
+    /// Each body alone against the rigid plane (its own frame, its own Hertz reference).
+    pub parts: [Body; 2],
+    /// Body 1 (slave, above) and body 2 (master, below, turned) in the global frame.
+    pub bodies: Bodies,
+    /// The pair's impact against Hertz (curved body 1), built once.
+    impact: Option<Impact>,
+    run: RunSpec,
+    sweeps: Vec<SweepSpec>,
+    history: Vec<HistorySpec>,
+}
+
+/// `(x, y) ↦ (−x, −y)` (2D) or `(x, y, z) ↦ (x, −y, −z)` (3D): the rotation by π that turns a
+/// body resting on `x_d = 0` from above into one below it.
+fn turn(x: [f64; 3], dim: usize) -> [f64; 3] {
+    if dim == 2 {
+        [-x[0], -x[1], x[2]]
+    } else {
+        [x[0], -x[1], -x[2]]
+    }
+}
+
+/// Body `fem` moved rigidly: each node (and Γ_C normal) through `map`, then the nodes shifted
+/// by `shift`.
+fn moved(
+    mut fem: Discretisation,
+    map: impl Fn([f64; 3]) -> [f64; 3],
+    shift: [f64; 3],
+) -> Discretisation {
+    for x in &mut fem.mesh.nodes {
+        let y = map(*x);
+        *x = std::array::from_fn(|k| y[k] + shift[k]);
+    }
+    for f in &mut fem.contact_faces {
+        f.normal = map(f.normal);
+    }
+    fem
+}
+
+/// The shift that centres a box's tangential extent on the line of impact (0 for round bodies,
+/// generated centred).
+fn centring(fem: &Discretisation, shape: &str) -> [f64; 3] {
+    let d = fem.dim();
+    let mut shift = [0.0; 3];
+    if shape == "box" {
+        for (k, s) in shift.iter_mut().enumerate().take(d - 1) {
+            let (lo, hi) = fem
+                .mesh
+                .nodes
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                    (lo.min(x[k]), hi.max(x[k]))
+                });
+            *s = -0.5 * (lo + hi);
+        }
+    }
+    shift
+}
+
+/// Hertz's body of the pair: `1/R* = Σ 1/R_i` (a box: 0), `1/E* = Σ 1/E_i*`, `m* = m₁m₂/(m₁ +
+/// m₂)` (the bodies' continuum masses), relative speed `v = |v₁| + |v₂|`; None unless body 1 is
+/// curved.
+fn pair_hertz(parts: &[Body; 2], dim: usize, materials: [&Material; 2]) -> Option<Hertz> {
+    parts[0].hertz?;
+    let curvature: f64 = parts
+        .iter()
+        .filter_map(|p| p.hertz)
+        .map(|h| 1.0 / h.radius)
+        .sum();
+    let compliance: f64 = materials
+        .iter()
+        .map(|m| (1.0 - m.poisson * m.poisson) / m.young)
+        .sum();
+    let mass = |p: &Body, m: &Material| match p.hertz {
+        Some(h) => h.mass,
+        None => m.density * p.geometry.size.iter().product::<f64>(),
+    };
+    let (m1, m2) = (mass(&parts[0], materials[0]), mass(&parts[1], materials[1]));
+    Some(Hertz {
+        dim,
+        radius: 1.0 / curvature,
+        e_star: 1.0 / compliance,
+        mass: m1 * m2 / (m1 + m2),
+        speed: -parts[0].geometry.velocity - parts[1].geometry.velocity,
+        compliance: 0.0,
+    })
+}
+
+impl TwoBodies {
+    /// Validates the spec, applies the overrides (to both bodies) and builds both meshes.
+    pub fn from_spec(spec: TwoBodiesSpec, o: &Overrides) -> Result<Self> {
+        let Some(&(kind, dim)) = KINDS.iter().find(|k| k.0 == spec.case) else {
+            return Err(Error::UnknownName {
+                kind: "case",
+                name: spec.case.clone(),
+                known: KINDS.iter().map(|k| k.0).collect::<Vec<_>>().join(", "),
+            });
+        };
+        if spec.mesh.file.is_some() || spec.master.mesh.as_ref().is_some_and(|m| m.file.is_some()) {
+            return Err(Error::invalid(
+                "mesh.file",
+                "a Gmsh file",
+                "two bodies are generated meshes (no Gmsh input with two volumes yet)",
+            ));
+        }
+        let frictional = [Some(&spec.contact), spec.master.contact.as_ref()]
+            .into_iter()
+            .flatten()
+            .find_map(|c| c.friction);
+        if let Some(mu) = frictional {
+            return Err(Error::invalid(
+                "contact.friction",
+                mu,
+                "two bodies are in frictionless contact (no friction between bodies yet)",
+            ));
+        }
+        let g = &spec.geometry;
+        let unused = [
+            ("geometry.gravity", g.gravity),
+            ("geometry.tangential_velocity", g.tangential_velocity),
+            ("geometry.slope", g.slope),
+        ];
+        if let Some((field, value)) = unused.into_iter().find(|u| u.1 != 0.0) {
+            return Err(Error::invalid(
+                field,
+                value,
+                "two free bodies meet head-on along e_d, without gravity (0)",
+            ));
+        }
+        let m = &spec.master;
+        let material2 = m.material.clone().unwrap_or_else(|| spec.material.clone());
+        let geometry2 = m.geometry.clone().unwrap_or_else(|| Geometry {
+            lift: 0.0,
+            ..spec.geometry.clone()
+        });
+        let part = |material: Material, geometry: Geometry, mesh, contact| {
+            let round = geometry.shape != "box";
+            let case = match (round, dim) {
+                (true, 2) => "hertz2d",
+                (true, _) => "hertz3d",
+                (false, 2) => "block2d",
+                (false, _) => "block3d",
+            };
+            let body = BodySpec {
+                case: case.into(),
+                units: spec.units.clone(),
+                material,
+                geometry,
+                mesh,
+                contact,
+                run: spec.run.clone(),
+                sweep: Vec::new(),
+                history: Vec::new(),
+            };
+            Body::from_spec(body, o)
+        };
+        let parts = [
+            part(
+                spec.material.clone(),
+                spec.geometry.clone(),
+                spec.mesh.clone(),
+                spec.contact.clone(),
+            )?,
+            part(
+                material2.clone(),
+                geometry2,
+                m.mesh.clone().unwrap_or_else(|| spec.mesh.clone()),
+                m.contact.clone().unwrap_or_else(|| spec.contact.clone()),
+            )?,
+        ];
+        for (p, field) in parts
+            .iter()
+            .zip(["geometry.velocity", "master.geometry.velocity"])
+        {
+            if p.geometry.velocity >= 0.0 {
+                return Err(Error::invalid(
+                    field,
+                    p.geometry.velocity,
+                    "must be < 0 (towards the other body)",
+                ));
+            }
+        }
+        let mut lift = [0.0; 3];
+        lift[dim - 1] = spec.geometry.lift;
+        let slave = moved(
+            parts[0].fem.clone(),
+            |x| x,
+            centring(&parts[0].fem, &parts[0].geometry.shape),
+        );
+        let mut shift = centring(&parts[1].fem, &parts[1].geometry.shape);
+        shift = turn(shift, dim);
+        let master = moved(parts[1].fem.clone(), |x| turn(x, dim), shift);
+        let slave = moved(slave, |x| x, lift);
+        let bodies = Bodies::new(vec![slave, master])?;
+        let hertz = pair_hertz(&parts, dim, [&spec.material, &material2]);
+        let impact = hertz.map(|h| pair_impact(&parts, &bodies, h)).transpose()?;
+        let mut run = spec.run;
+        o.apply(&mut run);
+        run.validate()?;
+        Ok(Self {
+            kind,
+            parts,
+            bodies,
+            impact,
+            run,
+            sweeps: spec.sweep,
+            history: spec.history,
+        })
+    }
+}
+
+/// The pair's impact: the relative approach of the centres of mass `δ = −Σ w U` (body 1's
+/// weights, body 2's negated: it approaches along +e_d), the reduced discrete mass, and the
+/// initial positions of the slave vertices with a contact row (the rows' order).
+fn pair_impact(parts: &[Body; 2], bodies: &Bodies, hertz: Hertz) -> Result<Impact> {
+    let (c1, m1) = parts[0].centre();
+    let (c2, m2) = parts[1].centre();
+    let o = bodies.offset(1);
+    let mut centre = c1;
+    centre.extend(c2.into_iter().map(|(j, w)| (j + o, -w)));
+    let slave = &bodies.parts[0];
+    let positions = bodies
+        .pairings(0, 1)?
+        .iter()
+        .map(|p| slave.mesh.nodes[slave.contact_vertices[p.slave].0])
+        .collect();
+    Ok(Impact {
+        hertz,
+        centre,
+        mass: m1 * m2 / (m1 + m2),
+        positions,
+    })
+}
+
+impl Case for TwoBodies {
+    fn kind(&self) -> &'static str {
+        self.kind
+    }
+
+    /// The larger of the two bodies' mesh sizes at the contact.
+    fn h(&self) -> f64 {
+        self.bodies
+            .parts
+            .iter()
+            .map(|p| p.mesh.h)
+            .fold(0.0, f64::max)
+    }
+
+    fn element(&self) -> Option<(&'static str, usize)> {
+        let e = self.bodies.parts[0].mesh.element;
+        Some((e.cells(), e.degree))
+    }
+
+    /// Both bodies undeformed, body 1 at `v₁ e_d`, body 2 at `|v₂| e_d`.
+    fn problem(&self, space: &dyn Space) -> Result<Problem> {
+        let d = self.bodies.dim();
+        let speeds = [
+            self.parts[0].geometry.velocity,
+            -self.parts[1].geometry.velocity,
+        ];
+        let initial: Vec<Initial> = self
+            .bodies
+            .parts
+            .iter()
+            .zip(speeds)
+            .map(|(p, v)| Initial {
+                displacement: vec![0.0; p.n_dofs()],
+                velocity: p
+                    .interpolate(|_| std::array::from_fn(|k| if k == d - 1 { v } else { 0.0 })),
+                gravity: None,
+                lift: 0.0,
+            })
+            .collect();
+        self.bodies.problem(|m| space.inertia(m), &initial)
+    }
+
+    fn exact(&self) -> Option<&dyn ExactContact> {
+        None
+    }
+
+    fn field_error(&self) -> Option<Box<dyn FieldError + '_>> {
+        None
+    }
+
+    fn stress_is_function(&self) -> bool {
+        true
+    }
+
+    fn run(&self) -> &RunSpec {
+        &self.run
+    }
+
+    fn sweeps(&self) -> &[SweepSpec] {
+        &self.sweeps
+    }
+
+    fn histories(&self) -> &[HistorySpec] {
+        &self.history
+    }
+
+    fn impact(&self) -> Option<Impact> {
+        self.impact.clone()
+    }
+
+    fn momentum(&self) -> Option<Vec<f64>> {
+        Some(self.bodies.translation())
+    }
+
+    fn bodies(&self) -> Vec<&dyn Case> {
+        self.parts.iter().map(|p| p as &dyn Case).collect()
+    }
+}
