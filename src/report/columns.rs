@@ -35,6 +35,7 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("energy_drift", "1", "`max_n |E_n − E_0| / |E_0|` over every sample (absolute, `max_n |E_n − E_0|`, when E_0 = 0)"),
     ("energy_ratio", "1", "`E_N / E_0` at the final time (`1 + E_N` when E_0 = 0)"),
     ("energy_drift_free", "1", "`energy_drift` over the samples away from contact (no contact force at n nor n − 1); read it beside `energy_drift` for the three-level schemes, whose midpoint energy dips during an impact step"),
+    ("momentum_drift", "case (mass·length/time)", "multi-body cases: `max_n |P_n − P_0|`, P the total linear momentum `(M̃1_d)ᵀV` along the line of impact (`momentum` of `timeseries.csv`), an invariant of a free pair"),
     ("max_penetration", "case (length)", "`max(0, max_n −g_n)` at the probe"),
     ("err_u_linf_l2", "case (length · length^(d/2))", "`max_n ‖u_h − u‖_{L²(Ω)}` against the exact solution (0D: `max_n |u_h − u|`)"),
     ("err_u_l2_h1", "case (length^(d/2) · time^(1/2))", "`(Σ_n Δt |u_h − u|²_{H¹(Ω)})^{1/2}` (H¹ seminorm) against the exact solution"),

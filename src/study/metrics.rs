@@ -72,6 +72,9 @@ pub struct Metrics {
     /// With friction: `min_n (W_f,n+1 − W_f,n)`, the least work dissipated in a step (≥ 0: friction
     /// never gives energy back).
     pub friction_work_min_step: Option<f64>,
+    /// Multi-body cases: `max_n |P_n − P_0|`, P the total linear momentum `(M̃1_d)ᵀV` along the
+    /// line of impact (an invariant: no external force, equal and opposite contact forces).
+    pub momentum_drift: Option<f64>,
 }
 
 /// One metric column of `summary.csv`: its name, and how to read and set it (`None` is an empty
@@ -128,6 +131,7 @@ pub const METRIC_COLUMNS: &[MetricColumn] = metric_columns![
     stop_distance: optional,
     friction_balance: optional,
     friction_work_min_step: optional,
+    momentum_drift: optional,
 ];
 
 /// The energy drift to read first, and the other one ([`Metrics::drift`]).
@@ -298,6 +302,12 @@ pub fn compute(
         err_max_approach: None,
         err_contact_radius: None,
         err_peak_pressure: None,
+        momentum_drift: rows[0].momentum.map(|p0| {
+            rows.iter()
+                .filter_map(|r| r.momentum)
+                .map(|p| (p - p0).abs())
+                .fold(0.0, f64::max)
+        }),
         ..Metrics::default()
     }
 }
