@@ -113,7 +113,7 @@ fn summary_metrics_of_every_combination_are_unchanged() {
     // bar1d 6 spaces × 15 schemes and 3 spaces × 4 contact formulations, bar_flight 6 × 15,
     // block2d 5 × 2 and 3 × 9, block3d 5 × 1, spring_mass 7 schemes, hertz2d 3 spaces, hertz3d
     // 2 + 1, two_bars and two_bars_unequal 5 × 8 each, slide2d 5 × 6 with friction and 5 × 4
-    // without, slide3d 4 × 5 and 4 × 4.
+    // without, slide3d 4 × 5 and 4 × 4, two_discs 5 × 6, two_spheres 4 × 4.
     assert_eq!(
         count,
         6 * 15
@@ -129,6 +129,8 @@ fn summary_metrics_of_every_combination_are_unchanged() {
             + 5 * 6
             + 5 * 4
             + 4 * 5
+            + 4 * 4
+            + 5 * 6
             + 4 * 4,
         "one snapshot per case × space × scheme"
     );

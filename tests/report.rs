@@ -108,6 +108,17 @@ fn quick_report_is_deterministic_resumable_and_indexed() {
     let first_case = index.find("\n## bar1d").expect("a bar1d section");
     assert!(findings < first_case, "Findings come first");
     assert!(index[findings..first_case].contains("mass_redistribution"));
+    // The two-body invariants: a row per case × space × scheme of each two-body case, the pairs'
+    // force figures linked.
+    let two = &index[index.find("\n## Two bodies").expect("a Two bodies section")..];
+    let two = &two[..two[1..].find("\n## ").map_or(two.len(), |e| e + 1)];
+    for case in ["two_bars", "two_discs", "two_spheres"] {
+        assert!(
+            two.contains(&format!("| {case} | mass_redistribution |")),
+            "{case}"
+        );
+    }
+    assert!(two.contains("](two_spheres_force.png)"));
     check_page(&a);
 }
 

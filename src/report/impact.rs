@@ -1,6 +1,7 @@
 //! The report's figures of a curved-body impact (cases with a Hertz reference), from one run of
 //! the case's defaults (`--quick`: its first sweep's coarsest level):
-//! - `<case>_force.png`: the total contact force against time, with Hertz's quasi-static
+//! - `<case>_force.png` (also for two bodies, the only figure there): the total contact force
+//!   against time, with Hertz's quasi-static
 //!   `F(t)` dashed (sphere; the disc has no closed form) and, for the sphere, the quasi-static
 //!   impact of the discrete body's own static law ([`crate::study::finite_body`]); the caption
 //!   gives the run's errors against both, and `<case>_finite_body.csv` the static solves;
@@ -42,7 +43,7 @@ pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Fi
         }
     }
     let case = file.build(&o)?;
-    let (Some(impact), Some(fem)) = (case.impact(), case.discretisation()) else {
+    let Some(impact) = case.impact() else {
         return Ok(Vec::new());
     };
     let kind = case.kind();
@@ -72,19 +73,23 @@ pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Fi
     let shot = Shot {
         out,
         kind,
-        fem,
+        in_series: !case.bodies().is_empty(),
         peak,
         impact: &impact,
         finite: finite.as_ref(),
         space: &s.space,
         setting,
     };
-    let mut figures = vec![shot.force(&r.rows)?, shot.pressure()?];
-    figures.push(if fem.dim() == 2 {
-        shot.von_mises()?
-    } else {
-        shot.pressure_map()?
-    });
+    let mut figures = vec![shot.force(&r.rows)?];
+    // The pictures of the body need its mesh (one body: the rows are its Γ_C vertices).
+    if let Some(fem) = case.discretisation() {
+        figures.push(shot.pressure(fem)?);
+        figures.push(if fem.dim() == 2 {
+            shot.von_mises(fem)?
+        } else {
+            shot.pressure_map(fem)?
+        });
+    }
     Ok(figures)
 }
 
@@ -92,7 +97,8 @@ pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Fi
 struct Shot<'a> {
     out: &'a Path,
     kind: &'a str,
-    fem: &'a Discretisation,
+    /// Two bodies: the finite-body law is both bodies' in series.
+    in_series: bool,
     peak: &'a Peak,
     impact: &'a Impact,
     /// The discrete body's own quasi-static impact (sphere).
@@ -121,7 +127,11 @@ impl Shot<'_> {
             .and_then(|f| f.hertz.force_history(HERTZ_SAMPLES))
         {
             series.push(Series::new(
-                "quasi-static, the body's own static law",
+                if self.in_series {
+                    "quasi-static, the bodies' own static laws in series"
+                } else {
+                    "quasi-static, the body's own static law"
+                },
                 history,
                 Style {
                     dash: Dash::Long,
@@ -142,10 +152,22 @@ impl Shot<'_> {
                     e.map(|x| x.map_or_else(|| "-".into(), |x| format!("{:+.2} %", 100.0 * x)))
                         .join(", ")
                 };
+                let (mass, law) = if self.in_series {
+                    (
+                        "meshes' reduced mass m₁m₂/(m₁ + m₂)",
+                        "two bodies' own static laws in series (each measured alone against \
+                         the plane, the approaches added), δ(F) = (F/k*)^(2/3) − c F/(E* R*)",
+                    )
+                } else {
+                    (
+                        "mesh's mass",
+                        "body's own static law δ(F) = (F/k)^(2/3) − c F/(E* R)",
+                    )
+                };
                 format!(
                     ". Errors of (t_c, F_max, δ_max): against Hertz {}; against Hertz for the \
-                     mesh's mass ({:.4}) {}; against the quasi-static impact of the body's own \
-                     static law δ(F) = (F/k)^(2/3) − c F/(E* R), c = {:.4} (static solves in \
+                     {mass} ({:.4}) {}; against the quasi-static impact of the {law}, \
+                     c = {:.4} (static solves in \
                      [{kind}_finite_body.csv]({kind}_finite_body.csv)), {}: what Hertz's \
                      half-space misses is the finite body, the rest is the dynamics",
                     pct(m.errors(&impact.hertz)),
@@ -176,9 +198,8 @@ impl Shot<'_> {
         })
     }
 
-    fn pressure(&self) -> Result<Figure> {
-        let (out, kind, fem, peak, impact) =
-            (self.out, self.kind, self.fem, self.peak, self.impact);
+    fn pressure(&self, fem: &Discretisation) -> Result<Figure> {
+        let (out, kind, peak, impact) = (self.out, self.kind, self.peak, self.impact);
         let setting = &self.setting;
         let (r, force) = impact.distances(&peak.lambda);
         let (a, p0) = (
@@ -245,9 +266,8 @@ impl Shot<'_> {
         })
     }
 
-    fn von_mises(&self) -> Result<Figure> {
-        let (out, kind, fem, peak, impact) =
-            (self.out, self.kind, self.fem, self.peak, self.impact);
+    fn von_mises(&self, fem: &Discretisation) -> Result<Figure> {
+        let (out, kind, peak, impact) = (self.out, self.kind, self.peak, self.impact);
         let setting = &self.setting;
         let (c, force) = impact.centre_of_pressure(&peak.lambda);
         let window = ZOOM * impact.hertz.contact_radius(force);
@@ -311,8 +331,8 @@ impl Shot<'_> {
         })
     }
 
-    fn pressure_map(&self) -> Result<Figure> {
-        let (fem, peak, impact, kind) = (self.fem, self.peak, self.impact, self.kind);
+    fn pressure_map(&self, fem: &Discretisation) -> Result<Figure> {
+        let (peak, impact, kind) = (self.peak, self.impact, self.kind);
         let (c, force) = impact.centre_of_pressure(&peak.lambda);
         let window = 2.0 * impact.hertz.contact_radius(force);
         let pressure = fem.contact_pressure(&peak.lambda);

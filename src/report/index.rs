@@ -1,6 +1,7 @@
 //! `index.md` and `index.html` of a report, both rendered from one [`Doc`]: a table of contents,
 //! one section per case (its case file, observed orders, errors against Hertz and its own
-//! figures), the runs that did not finish, the cross-code comparison, and every file written.
+//! figures), the invariants of the two-body runs ([`super::two_bodies`]), the runs that did not
+//! finish, the cross-code comparison, and every file written.
 
 use super::doc::{Block, Cell, Doc, Figure, Rich, Tone};
 use super::quantity::named;
@@ -58,6 +59,7 @@ pub fn document(c: &Contents<'_>, files: &[String]) -> Doc {
     for case in c.cases {
         case_section(&mut d, c, case);
     }
+    super::two_bodies::section(&mut d, c.records, c.figures);
     super::friction::section(&mut d, c.records, c.slides, c.figures);
     failures_section(&mut d, c.records);
     cross_code_section(&mut d, c.peers);

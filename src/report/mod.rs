@@ -23,6 +23,7 @@ pub mod index;
 pub mod quantity;
 pub mod schemes_compared;
 pub mod style;
+pub mod two_bodies;
 pub mod verdict;
 
 use crate::cases::{self, CaseFile};
