@@ -174,9 +174,10 @@ impl Bodies {
 
     /// The node-to-segment rows of the slave body's Γ_C vertices on the master body's Γ_C faces:
     /// the face containing the projection (else the one it misses by least, within
-    /// [`MAX_EXCESS`], the projection clamped onto it: the dead zones above a convex master's
-    /// kinks), nearest in |g₀| among ties; the normal is the mean of the normals of the faces
-    /// meeting at the projected point (one inside a face, two on an edge, all around a vertex).
+    /// [`MAX_EXCESS`], the projection clamped onto it, when the vertex lies in the dead zone
+    /// above a convex master's kink: [`in_wedge`]), nearest in |g₀| among ties; the normal is the
+    /// mean of the normals of the faces meeting at the projected point (one inside a face, two
+    /// on an edge, all around a vertex).
     pub fn pairings(&self, slave: usize, master: usize) -> Result<Vec<Pairing>> {
         let (s, m) = (&self.parts[slave], &self.parts[master]);
         let d = self.dim();
@@ -206,17 +207,34 @@ impl Bodies {
             };
             let (xm, shape, face) = (best.2, &best.3, best.4);
             let tol = PROJECTION_TOLERANCE * m.mesh.h;
+            // The faces through the projected point: xm projected on each is itself.
+            let mut meeting: Vec<[f64; 3]> = Vec::new();
+            for c in &candidates {
+                let x: Vec<[f64; 3]> = c.4.vertices.iter().map(|&k| m.mesh.nodes[k]).collect();
+                if let Some((_, sh)) = project(&x, c.4.normal, xm)? {
+                    let on = (0..3)
+                        .map(|k| {
+                            (xm[k] - sh.iter().zip(&x).map(|(n, p)| n * p[k]).sum::<f64>()).powi(2)
+                        })
+                        .sum::<f64>()
+                        .sqrt();
+                    if on <= tol {
+                        meeting.push(c.4.normal);
+                    }
+                }
+            }
             let mut normal = [0.0; 3];
-            for c in candidates
-                .iter()
-                .filter(|c| (0..3).map(|k| (c.2[k] - xm[k]).powi(2)).sum::<f64>().sqrt() <= tol)
-            {
-                for (n, x) in normal.iter_mut().zip(c.4.normal) {
-                    *n += x;
+            for n in &meeting {
+                for (a, x) in normal.iter_mut().zip(n) {
+                    *a += x;
                 }
             }
             let len = dot(normal, normal).sqrt();
             let normal: [f64; 3] = std::array::from_fn(|k| normal[k] / len);
+            let offset: [f64; 3] = std::array::from_fn(|k| xs[k] - xm[k]);
+            if best.0 > 0.0 && !in_wedge(offset, normal, &meeting, tol) {
+                continue;
+            }
             let g0 = dot(std::array::from_fn(|k| xs[k] - xm[k]), normal);
             let mut row: Vec<(usize, f64)> = (0..d)
                 .map(|c| (self.global(slave, i, c), -normal[c]))
@@ -361,6 +379,27 @@ fn merge_velocity(spaces: &[&VelocitySpace]) -> VelocitySpace {
     }
 }
 
+/// Whether a slave vertex whose projection misses every face lies in the dead zone above the
+/// kink where the faces of normals `meeting` meet (an edge or vertex shared by at least two of
+/// them): its offset from the kink makes an angle with their mean normal `n` no larger than the
+/// largest angle α between `n` and theirs, `|offset − (offset·n) n| ≤ |offset·n| tan α`. Beyond
+/// the master's Γ_C (a boundary edge, one face) it does not: no row, rather than a row whose
+/// gap along the mean normal underestimates the distance.
+fn in_wedge(offset: [f64; 3], n: [f64; 3], meeting: &[[f64; 3]], tol: f64) -> bool {
+    let dot = |a: [f64; 3], b: [f64; 3]| (0..3).map(|k| a[k] * b[k]).sum::<f64>();
+    if meeting.len() < 2 {
+        return false;
+    }
+    let cos = meeting
+        .iter()
+        .map(|&m| dot(m, n).clamp(-1.0, 1.0))
+        .fold(1.0, f64::min);
+    let gn = dot(offset, n);
+    let tangential: [f64; 3] = std::array::from_fn(|k| offset[k] - gn * n[k]);
+    let tan = (1.0 - cos * cos).sqrt() / cos;
+    dot(tangential, tangential).sqrt() <= gn.abs() * tan + tol
+}
+
 /// The projection of `p` along the face's unit normal `n` on the face with vertices `x`: how far
 /// outside the face it falls (in reference coordinates, 0 inside) and the shape functions at
 /// the nearest point of the face (a point: `[1]`; a segment: `[1 − t, t]`; a triangle:
@@ -430,7 +469,25 @@ fn project(x: &[[f64; 3]], n: [f64; 3], p: [f64; 3]) -> Result<Option<(f64, Vec<
             break;
         }
     }
-    if !(s.is_finite() && t.is_finite()) {
+    // Converged: the offset to p is along n (to round-off of the face's size). Far from the
+    // face, the bilinear map of a warped quadrilateral may fold and Newton wander: no projection.
+    let size = x
+        .iter()
+        .map(|y| {
+            dot(
+                std::array::from_fn(|k| y[k] - x[0][k]),
+                std::array::from_fn(|k| y[k] - x[0][k]),
+            )
+        })
+        .fold(0.0, f64::max)
+        .sqrt();
+    let r: [f64; 3] = {
+        let xm = combine(&shape(s, t));
+        std::array::from_fn(|k| xm[k] - p[k])
+    };
+    let rn = dot(r, n);
+    let tangential: [f64; 3] = std::array::from_fn(|k| r[k] - rn * n[k]);
+    if !(s.is_finite() && t.is_finite()) || dot(tangential, tangential).sqrt() > 1e-9 * size {
         return Ok(None);
     }
     let excess = match x.len() {
@@ -666,7 +723,8 @@ mod tests {
     /// A convex master (two segments meeting at a kink of 0.2 rad below the slave vertex at
     /// height 0.5): the projections along both faces' normals miss them (the dead zone), the
     /// vertex is paired with the kink itself and the mean normal, the bisector `e_y`; its row
-    /// still annihilates both translations.
+    /// still annihilates both translations. A vertex beyond the master's end (a single face
+    /// there, no kink) gets no row.
     #[test]
     fn a_vertex_above_a_convex_kink_gets_the_mean_normal() {
         use crate::mesh::{Face, Mesh};
@@ -712,9 +770,13 @@ mod tests {
             [1.0, 1.0, 0.0],
             [0.0, 1.0, 0.0],
         ]);
-        slave.contact_vertices = vec![(0, 1.0)];
+        slave.mesh.nodes[1] = [1.2, 0.3, 0.0];
+        slave.contact_vertices = vec![(0, 1.0), (1, 1.0)];
         let b = Bodies::new(vec![slave, master]).unwrap();
-        let p = &b.pairings(0, 1).unwrap()[0];
+        let pairs = b.pairings(0, 1).unwrap();
+        // Vertex 1 misses the master's end by 0.16 face: beyond Γ_C, no row.
+        assert_eq!(pairs.len(), 1);
+        let p = &pairs[0];
         assert!((p.g0 - 0.5).abs() < 1e-14, "{p:?}");
         assert_eq!(p.row[0], (1, -1.0));
         for comp in 0..2 {
