@@ -147,16 +147,11 @@ impl Case for TwoBars {
 
     /// The larger of the two bars' element lengths.
     fn h(&self) -> f64 {
-        self.bodies
-            .parts
-            .iter()
-            .map(|p| p.mesh.h)
-            .fold(0.0, f64::max)
+        self.bodies.h()
     }
 
     fn element(&self) -> Option<(&'static str, usize)> {
-        let e = self.bodies.parts[0].mesh.element;
-        Some((e.cells(), e.degree))
+        Some(self.bodies.element())
     }
 
     fn problem(&self, space: &dyn Space) -> Result<Problem> {

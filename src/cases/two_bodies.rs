@@ -327,16 +327,11 @@ impl Case for TwoBodies {
 
     /// The larger of the two bodies' mesh sizes at the contact.
     fn h(&self) -> f64 {
-        self.bodies
-            .parts
-            .iter()
-            .map(|p| p.mesh.h)
-            .fold(0.0, f64::max)
+        self.bodies.h()
     }
 
     fn element(&self) -> Option<(&'static str, usize)> {
-        let e = self.bodies.parts[0].mesh.element;
-        Some((e.cells(), e.degree))
+        Some(self.bodies.element())
     }
 
     /// Both bodies undeformed, body 1 at `v₁ e_d`, body 2 at `|v₂| e_d`.

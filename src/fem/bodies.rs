@@ -105,6 +105,17 @@ impl Bodies {
         self.parts[0].dim()
     }
 
+    /// The larger of the bodies' mesh sizes at the contact.
+    pub fn h(&self) -> f64 {
+        self.parts.iter().map(|p| p.mesh.h).fold(0.0, f64::max)
+    }
+
+    /// The cell shape and degree of the slave's mesh (the records' key columns).
+    pub fn element(&self) -> (&'static str, usize) {
+        let e = self.parts[0].mesh.element;
+        (e.cells(), e.degree)
+    }
+
     /// The first global dof of body b.
     pub fn offset(&self, b: usize) -> usize {
         self.offsets[b]
