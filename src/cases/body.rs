@@ -19,7 +19,7 @@
 //! velocity; optional gravity.
 
 use super::sweep::SweepSpec;
-use super::{Case, FieldError, Overrides, RunSpec};
+use super::{Case, FieldError, Overrides, RunSpec, Size};
 use crate::element::reference::{RefElement, Shape};
 use crate::error::{positive, Error, Result};
 use crate::exact::hertz::Hertz;
@@ -193,6 +193,53 @@ fn assembly_bytes(element: &RefElement, cells: f64, nodes: f64) -> f64 {
     cells * local * local * 24.0 + 3.0 * nodes * coupled * 16.0
 }
 
+/// Cells of a box along each direction: `n` along the first, the others in proportion to the
+/// size (at least 1).
+fn box_cells(g: &Geometry, dim: usize, n: usize) -> [usize; 3] {
+    let mut cells = [1; 3];
+    for (c, s) in cells.iter_mut().zip(&g.size).take(dim) {
+        *c = ((n as f64 * s / g.size[0]).round() as usize).max(1);
+    }
+    cells
+}
+
+/// Nodes of the generated mesh with `n` cells per edge and degree `degree`: a box's
+/// `Π (p c_k + 1)`, a disc's or sphere's O-grid `(1 + d) (p n + 1)^d` (an upper bound).
+pub(super) fn generated_nodes(g: &Geometry, dim: usize, n: usize, degree: usize) -> f64 {
+    if g.shape == "box" {
+        let cells = box_cells(g, dim, n);
+        cells[..dim]
+            .iter()
+            .map(|&c| degree as f64 * c as f64 + 1.0)
+            .product()
+    } else {
+        (degree as f64 * n as f64 + 1.0).powi(dim as i32) * (1.0 + dim as f64)
+    }
+}
+
+/// The size of a run of `spec` with the overrides `o`, before anything is built (for the
+/// scheduling of a study): a generated mesh's node count, a Gmsh file's about one node per
+/// [`GMSH_BYTES_PER_NODE`] of its length.
+pub fn size(spec: &BodySpec, o: &Overrides) -> Size {
+    let dim = KINDS.iter().find(|k| k.0 == spec.case).map_or(3, |k| k.1);
+    let nodes = match o.mesh.as_ref().or(spec.mesh.file.as_ref()) {
+        Some(file) => std::fs::metadata(file).map_or(0.0, |m| m.len() as f64) / GMSH_BYTES_PER_NODE,
+        None => generated_nodes(
+            &spec.geometry,
+            dim,
+            o.elements.unwrap_or(spec.mesh.elements),
+            o.degree.unwrap_or(spec.mesh.degree),
+        ),
+    };
+    Size {
+        dim,
+        dofs: nodes * dim as f64,
+    }
+}
+
+/// Bytes of a Gmsh file per node, roughly (its node and cell lines), for [`size`].
+const GMSH_BYTES_PER_NODE: f64 = 100.0;
+
 /// Cells per structured cell (simplices split each box cell).
 fn per_cell(element: &RefElement) -> f64 {
     match (element.shape, element.dim) {
@@ -300,18 +347,14 @@ pub(super) fn build_mesh(
             for s in &g.size {
                 crate::error::length("geometry.size", *s)?;
             }
-            let mut cells = [1; 3];
+            let cells = box_cells(g, dim, n);
             let mut size = [0.0; 3];
-            for k in 0..dim {
-                size[k] = g.size[k];
-                cells[k] = ((n as f64 * g.size[k] / g.size[0]).round() as usize).max(1);
-            }
-            let count =
-                |f: &dyn Fn(usize) -> f64| cells[..dim].iter().map(|&c| f(c)).product::<f64>();
+            size[..dim].copy_from_slice(&g.size[..dim]);
+            let count = cells[..dim].iter().map(|&c| c as f64).product::<f64>();
             let bytes = assembly_bytes(
                 &element,
-                count(&|c| c as f64) * per_cell(&element),
-                count(&|c| (degree * c + 1) as f64),
+                count * per_cell(&element),
+                generated_nodes(g, dim, n, degree),
             );
             crate::util::check_memory("mesh.elements", n, bytes)?;
             box_mesh(element, cells, size)?
@@ -333,9 +376,8 @@ pub(super) fn build_mesh(
                 )
             })?;
             crate::error::length("geometry.radius", radius)?;
-            let nf = n as f64;
-            let cells = nf.powi(dim as i32) * (1.0 + dim as f64) * per_cell(&element);
-            let nodes = ((degree * n + 1) as f64).powi(dim as i32) * (1.0 + dim as f64);
+            let cells = (n as f64).powi(dim as i32) * (1.0 + dim as f64) * per_cell(&element);
+            let nodes = generated_nodes(g, dim, n, degree);
             crate::util::check_memory("mesh.elements", n, assembly_bytes(&element, cells, nodes))?;
             crate::mesh::curved::round_body(element, n, radius, spec_mesh.grading)?
         }

@@ -419,6 +419,16 @@ impl Overrides {
     }
 }
 
+/// The size of a run estimated from its case file and overrides before anything is built, for
+/// the scheduling of a study ([`CaseFile::size`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Size {
+    /// Space dimension (0 for the spring–mass).
+    pub dim: usize,
+    /// Displacement dofs, about.
+    pub dofs: f64,
+}
+
 /// Case kinds known to [`load`].
 pub const CASES: &[&str] = &[
     "bar1d",
@@ -518,6 +528,28 @@ impl CaseFile {
         self.path
             .file_stem()
             .map_or_else(String::new, |s| s.to_string_lossy().to_string())
+    }
+
+    /// The estimated [`Size`] of a run with `overrides` (nothing is built or validated).
+    pub fn size(&self, o: &Overrides) -> Size {
+        let bar = |mesh: &bar::MeshSpec, bars: f64| {
+            let (elements, degree) = (
+                o.elements.unwrap_or(mesh.elements),
+                o.degree.unwrap_or(mesh.degree),
+            );
+            Size {
+                dim: 1,
+                dofs: bars * (elements as f64 * degree as f64 + 1.0),
+            }
+        };
+        match &self.spec {
+            Spec::Bar1d(s) => bar(&s.mesh, 1.0),
+            Spec::BarFlight(s) => bar(&s.mesh, 1.0),
+            Spec::TwoBars(s) => bar(&s.mesh, 2.0),
+            Spec::Body(s) => body::size(s, o),
+            Spec::TwoBodies(s) => two_bodies::size(s, o),
+            Spec::SpringMass(_) => Size { dim: 0, dofs: 1.0 },
+        }
     }
 
     /// The validated case with `overrides` applied (a mesh override given to a case without

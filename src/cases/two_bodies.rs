@@ -22,7 +22,7 @@
 
 use super::body::{Body, BodySpec, ContactSpec, Geometry, Material, MeshSpec};
 use super::sweep::{HistorySpec, SweepSpec};
-use super::{Case, FieldError, Impact, Overrides, RunSpec};
+use super::{Case, FieldError, Impact, Overrides, RunSpec, Size};
 use crate::error::{Error, Result};
 use crate::exact::hertz::Hertz;
 use crate::exact::ExactContact;
@@ -34,6 +34,22 @@ use serde::Deserialize;
 
 /// Case kinds of this module with their dimension.
 pub const KINDS: &[(&str, usize)] = &[("two_discs", 2), ("two_spheres", 3)];
+
+/// The estimated [`Size`] of a pair, for the scheduler: twice body 1's generated mesh (body 2
+/// is its image unless `[master]` gives another, which this estimate ignores).
+pub fn size(spec: &TwoBodiesSpec, o: &Overrides) -> Size {
+    let dim = KINDS.iter().find(|k| k.0 == spec.case).map_or(3, |k| k.1);
+    let nodes = super::body::generated_nodes(
+        &spec.geometry,
+        dim,
+        o.elements.unwrap_or(spec.mesh.elements),
+        o.degree.unwrap_or(spec.mesh.degree),
+    );
+    Size {
+        dim,
+        dofs: 2.0 * nodes * dim as f64,
+    }
+}
 
 /// `[master]`: body 2 where it differs from body 1 (each table in full, as body 1's).
 #[derive(Debug, Clone, Default, Deserialize)]

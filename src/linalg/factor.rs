@@ -309,8 +309,12 @@ impl Factor {
             "right-hand sides of the wrong length"
         );
         let rhs = MatMut::from_column_major_slice_mut(x, self.n, ncols);
-        // Setup-time blocked solves use every core (the per-step solves stay sequential).
-        let par = Par::rayon(0);
+        // Setup-time blocked solves use every core from the order at which the factor does
+        // (the per-step solves stay sequential). Below it they are sequential too: in parallel on
+        // a pool busy with other runs (a report's runs side by side) faer's solve rounded
+        // differently from one report to the next (the singular dynamic hertz2d run of
+        // `report --quick`, 3 554 dofs: energy drift 9.820381432741e-4 against …859e-4).
+        let par = par_for(self.n);
         let req = match &self.kind {
             Kind::Llt { symbolic, .. } | Kind::Lblt { symbolic, .. } => {
                 symbolic.solve_in_place_scratch::<f64>(ncols, par)

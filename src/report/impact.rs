@@ -32,8 +32,9 @@ const HERTZ_SAMPLES: usize = 400;
 /// Half-width of the von Mises picture, in contact half-widths.
 const ZOOM: f64 = 4.0;
 
-/// The impact figures of `file`, or none when the case has no Hertz reference.
-pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> {
+/// The run of the impact figures: the case's defaults, or (`quick`) its first sweep's first
+/// level.
+pub fn impact_overrides(file: &CaseFile, quick: bool) -> Result<Overrides> {
     let mut o = Overrides::default();
     if quick {
         let case = file.build(&o)?;
@@ -42,7 +43,12 @@ pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Fi
             (o.elements, o.dt, o.t_end) = (level.elements, Some(level.dt), sweep.t_end);
         }
     }
-    let case = file.build(&o)?;
+    Ok(o)
+}
+
+/// The impact figures of `file`, or none when the case has no Hertz reference.
+pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> {
+    let case = file.build(&impact_overrides(file, quick)?)?;
     let Some(impact) = case.impact() else {
         return Ok(Vec::new());
     };

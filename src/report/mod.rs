@@ -26,14 +26,15 @@ pub mod style;
 pub mod two_bodies;
 pub mod verdict;
 
-use crate::cases::{self, CaseFile};
+use crate::cases::{self, CaseFile, Overrides};
 use crate::error::{Error, Result};
 use crate::study::jobs::{self, RunRecord};
-use crate::study::journal::{self, run_study};
+use crate::study::journal::{self, run_study_with, Extra};
 use crate::study::orders;
 use crate::study::peers::{self, Agreement};
 use crate::study::records::{read_records, write_records, write_timings};
 use crate::study::reference;
+use crate::study::schedule::Estimate;
 use doc::Figure;
 use figures::{convergence_figures, time_histories};
 use std::path::{Path, PathBuf};
@@ -147,22 +148,33 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
     for f in &files {
         all.extend(jobs::jobs(f, opts.quick)?);
     }
-    let mut records = run_study(&all, out, "journal.csv", opts.resume, opts.progress)?;
+    // The figures' own runs are scheduled with the sweeps' (they need no record).
+    let extras = files
+        .iter()
+        .map(|f| {
+            Ok(Extra {
+                estimate: figures_estimate(f, opts.quick)?,
+                work: Box::new(move || case_figures(f, out, opts.quick)),
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let (mut records, per_case) = run_study_with(
+        &all,
+        (out, "journal.csv"),
+        (opts.resume, opts.progress),
+        &extras,
+    )?;
     reference::reference_errors(&mut records);
     journal::rewrite(out, "journal.csv", &all, &records)?;
     let mut figures = Vec::new();
     let mut slides = Vec::new();
-    for f in &files {
+    for (f, per_case) in files.iter().zip(per_case) {
         let case = f.build(&Default::default())?;
         if let Some(s) = case.slide() {
             slides.push((case.kind().to_string(), s));
             figures.extend(friction::figures(f, out, opts.quick)?);
         }
-        figures.extend(if case.impact().is_some() {
-            impact::impact_figures(f, out, opts.quick)?
-        } else {
-            time_histories(f, case.as_ref(), out, opts.quick)?
-        });
+        figures.extend(per_case?);
     }
     let peers_dir = cases_dir
         .parent()
@@ -182,6 +194,68 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
         (&cases, opts.quick),
     )?;
     Ok(records)
+}
+
+/// The time-history figures of a case file, or its impact figures for a curved body.
+fn case_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> {
+    let case = file.build(&Overrides::default())?;
+    if case.impact().is_some() {
+        impact::impact_figures(file, out, quick)
+    } else {
+        time_histories(file, case.as_ref(), out, quick)
+    }
+}
+
+/// The estimated cost of [`case_figures`]: its runs (the impact run and the finite-body law,
+/// the `[[history]]` tables, or the first sweep's level 2, as the figures take them), of which
+/// two at a time are in memory.
+fn figures_estimate(file: &CaseFile, quick: bool) -> Result<Estimate> {
+    let case = file.build(&Overrides::default())?;
+    let mut runs: Vec<Overrides> = Vec::new();
+    let mut extra = Estimate::default();
+    if case.impact().is_some() {
+        runs.push(impact::impact_overrides(file, quick)?);
+        if case.impact().is_some_and(|i| i.hertz.dim == 3) {
+            extra = crate::study::finite_body::estimate(file.size(&runs[0]));
+        }
+    } else if !case.histories().is_empty() {
+        for h in case.histories() {
+            let dts = if quick {
+                &h.dts[..h.dts.len().min(1)]
+            } else {
+                &h.dts[..]
+            };
+            for space in &h.spaces {
+                runs.extend(dts.iter().map(|&dt| h.overrides(space, dt)));
+            }
+        }
+    } else {
+        let sweep = &case.sweeps()[0];
+        let levels = sweep.refinements(quick)?;
+        let level = levels[if quick { 0 } else { 2.min(levels.len() - 1) }];
+        for space in &sweep.spaces {
+            runs.extend(
+                sweep
+                    .schemes
+                    .iter()
+                    .map(|c| sweep.overrides(space, c, level)),
+            );
+        }
+    }
+    let mut each: Vec<Estimate> = runs
+        .iter()
+        .map(|o| {
+            let mut spec = case.run().clone();
+            o.apply(&mut spec);
+            jobs::estimate(file.size(o), spec.steps(), &spec.space)
+        })
+        .collect();
+    each.push(extra);
+    each.sort_by(|a, b| b.bytes.total_cmp(&a.bytes));
+    Ok(Estimate {
+        seconds: each.iter().map(|e| e.seconds).sum(),
+        bytes: each.iter().take(2).map(|e| e.bytes).sum(),
+    })
 }
 
 /// Joins record files (from `sweep --shard`) into a report in `out` (no time histories).

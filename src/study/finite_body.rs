@@ -19,7 +19,8 @@
 //! `K U = F − B_Nᵀλ` (independent of M) by about `(ω Δt)⁻² ≈ 10⁻³` per step, ω the contact
 //! frequency; it stops when the approach changes by less than [`TOLERANCE`] of itself.
 
-use crate::cases::{Case, Impact};
+use super::schedule::Estimate;
+use crate::cases::{Case, Impact, Size};
 use crate::error::{Error, Result};
 use crate::exact::hertz::Hertz;
 use crate::time::backward_euler::BackwardEuler;
@@ -126,6 +127,16 @@ pub fn in_series(case: &dyn Case, parts: &[&dyn Case]) -> Result<FiniteBody> {
         hertz: half_space.finite_body(impact.mass, compliance)?,
         half_space,
     })
+}
+
+/// The estimated cost of [`finite_body`] on a sphere of `size`, for the scheduler: a sparse
+/// Cholesky factor and up to [`MAX_STEPS`] solves per load (measured on the default hertz3d
+/// sphere at 661ce8a: 1.1 GB, about 20 s per load).
+pub fn estimate(size: Size) -> Estimate {
+    Estimate {
+        seconds: LOADS.len() as f64 * size.dofs * MAX_STEPS as f64 * 6e-6,
+        bytes: 250e6 + size.dofs * 15e3,
+    }
 }
 
 /// The static state of `case` under a uniform body force of total `force` towards the plane

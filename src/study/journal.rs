@@ -14,10 +14,10 @@
 
 use super::jobs::{run_job, runs_bar, Job, RunRecord};
 use super::records::{read_rows, record_fields, record_header};
+use super::schedule::{self, Estimate};
 use crate::error::{Error, Result};
 use crate::input::{Input, TABLE};
 use crate::output::{csv::write_rows, fmt_float};
-use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -158,6 +158,32 @@ pub fn run_study(
     resume: bool,
     progress: bool,
 ) -> Result<Vec<RunRecord>> {
+    let none: &[Extra<'_, ()>] = &[];
+    Ok(run_study_with(jobs, (dir, journal), (resume, progress), none)?.0)
+}
+
+/// A task of a study besides its runs (the report's figures), scheduled with them.
+pub struct Extra<'a, R> {
+    /// Its estimated cost.
+    pub estimate: Estimate,
+    /// The task.
+    pub work: Box<dyn Fn() -> R + Sync + 'a>,
+}
+
+/// One task of [`run_study_with`].
+enum Task<'t, 'a, R> {
+    Run(&'t Job),
+    Extra(&'t Extra<'a, R>),
+}
+
+/// As [`run_study`], with the `extras` scheduled among the runs ([`schedule::run`]: longest first
+/// within the memory budget); returns their results too, in order.
+pub fn run_study_with<R: Send>(
+    jobs: &[Job],
+    (dir, journal): (&Path, &str),
+    (resume, progress): (bool, bool),
+    extras: &[Extra<'_, R>],
+) -> Result<(Vec<RunRecord>, Vec<R>)> {
     let mut keys = std::collections::HashSet::new();
     if let Some(j) = jobs.iter().find(|j| !keys.insert(j.key.as_str())) {
         return Err(Error::invalid(
@@ -183,18 +209,39 @@ pub fn run_study(
         );
     }
     let bar = runs_bar(todo.len(), progress);
-    todo.par_iter().try_for_each(|j| {
-        let r = run_job(j);
-        bar.inc(1);
-        journal.append(&j.file.hash, &r)
-    })?;
+    let tasks: Vec<Task<'_, '_, R>> = todo
+        .iter()
+        .map(|j| Task::Run(j))
+        .chain(extras.iter().map(Task::Extra))
+        .collect();
+    let estimate = |t: &Task<'_, '_, R>| match t {
+        Task::Run(j) => j.estimate(),
+        Task::Extra(e) => e.estimate,
+    };
+    let done = schedule::run(&tasks, estimate, schedule::workers(), |t| match t {
+        Task::Run(j) => {
+            let r = run_job(j);
+            bar.inc(1);
+            (Some(journal.append(&j.file.hash, &r)), None)
+        }
+        Task::Extra(e) => (None, Some((e.work)())),
+    });
     bar.finish_and_clear();
+    let mut results = Vec::with_capacity(extras.len());
+    for d in done {
+        match d {
+            (Some(appended), _) => appended?,
+            (_, Some(r)) => results.push(r),
+            _ => {}
+        }
+    }
     let text = JOURNAL.read(&journal.path)?;
     let all: HashMap<(String, String), RunRecord> = read_journal(&text, &journal.path)?
         .into_iter()
         .map(|(r, hash)| ((r.key.clone(), hash), r))
         .collect();
-    jobs.iter()
+    let records = jobs
+        .iter()
         .map(|j| {
             let mut r = all
                 .get(&(j.key.clone(), j.file.hash.clone()))
@@ -205,7 +252,8 @@ pub fn run_study(
             r.probe = read_probe(&journal.path, &j.key)?;
             Ok(r)
         })
-        .collect()
+        .collect::<Result<_>>()?;
+    Ok((records, results))
 }
 
 /// Writes `dir/journal` again with `records` (the final ones, one per job, in job order), so
