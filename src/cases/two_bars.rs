@@ -218,13 +218,17 @@ impl FieldError for TwoBarsFieldError<'_> {
             // Bar 1's own coordinate is y = −x, bar 2's y = x.
             let sign = if k == 0 { -1.0 } else { 1.0 };
             let fronts: Vec<f64> = ex.fronts(k, t).into_iter().map(|y| sign * y).collect();
+            // Buffers reused over the cells (this runs at every step of every two-bar run).
+            let (mut nodal, mut cuts) = (Vec::new(), Vec::new());
             for cell in &mesh.connectivity {
                 let (xa, xb) = (mesh.nodes[cell[0]][0], mesh.nodes[cell[cell.len() - 1]][0]);
-                let nodal: Vec<f64> = cell
-                    .iter()
-                    .map(|&i| fem.dofs.get(i, 0).map_or(0.0, |d| u[o + d]))
-                    .collect();
-                let mut cuts = vec![xa, xb];
+                nodal.clear();
+                nodal.extend(
+                    cell.iter()
+                        .map(|&i| fem.dofs.get(i, 0).map_or(0.0, |d| u[o + d])),
+                );
+                cuts.clear();
+                cuts.extend([xa, xb]);
                 cuts.extend(fronts.iter().copied().filter(|&f| f > xa && f < xb));
                 cuts.sort_by(f64::total_cmp);
                 for piece in cuts.windows(2) {

@@ -150,15 +150,19 @@ impl TwoBars {
     fn right(&self, k: usize, y: f64, t: f64) -> (f64, f64) {
         let (c, r0) = (self.wave_speed(), self.impedance() * self.speed);
         let delay = y / c;
-        let value = if t < delay {
-            r0
+        let before = r0 * t.min(delay).max(0.0);
+        if t < delay {
+            return (r0, before + self.emitted_integral(k, t - delay));
+        }
+        // One search for the value and the integral (the report's field errors of the two-bar
+        // cases call this a few times per quadrature point and step).
+        let (tau, s) = (t - delay, self.segment(t - delay));
+        let integral = if tau <= 0.0 {
+            0.0
         } else {
-            self.segment(t - delay).r[k]
+            s.cum[k] + s.r[k] * (tau - s.t0)
         };
-        (
-            value,
-            r0 * t.min(delay).max(0.0) + self.emitted_integral(k, t - delay),
-        )
+        (s.r[k], before + integral)
     }
 
     /// `(Λ, ∫₀ᵗ Λ)` at (y, t) in bar k: `Λ⁰` until the reflection from the free end arrives,
