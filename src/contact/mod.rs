@@ -38,6 +38,11 @@ pub trait Solver: Send {
     fn signorini(&self) -> bool {
         true
     }
+    /// The compliances ε_i of a law `λ_i = [−g_i]₊ / ε_i` (Nitsche's), which a step may enforce
+    /// by its own means (the cg step's semismooth Newton); None for the other laws.
+    fn compliance(&self) -> Option<&[f64]> {
+        None
+    }
     /// Solves the LCP; `lambda` holds a warm start on entry and the solution on exit.
     fn solve(
         &mut self,

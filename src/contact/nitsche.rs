@@ -206,7 +206,9 @@ fn nearest_point(points: &[BoundaryPoint], vertex: usize) -> Result<usize> {
 /// The per-step law `λ = (w/γ)[−g]₊` with `g = q + D λ` (D not symmetric for θ ≠ 1): the
 /// semismooth Newton method on `min(λ, q + (D + diag(c)) λ) = 0`, `c = γ/w`, i.e. the primal–dual
 /// active set with a dense LU of the active block (faer). Per iteration it costs `n_c` times the number
-/// of nonzero λ (columns of D) plus the LU; D itself is neither copied nor shifted.
+/// of nonzero λ (columns of D) plus the LU; D itself is neither copied nor shifted. On the cg
+/// path the step solves the same law by its own Newton method ([`Solver::compliance`],
+/// `time::step::compliant`).
 #[derive(Debug, Clone)]
 pub struct NitscheLaw {
     compliance: Vec<f64>,
@@ -219,6 +221,10 @@ impl Solver for NitscheLaw {
 
     fn signorini(&self) -> bool {
         false
+    }
+
+    fn compliance(&self) -> Option<&[f64]> {
+        Some(&self.compliance)
     }
 
     fn solve(

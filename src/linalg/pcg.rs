@@ -68,6 +68,8 @@ pub struct Pcg {
     jacobi: NodalJacobi,
     /// The block of the preconditioner solved by its factor, if any.
     block: Option<FactoredBlock>,
+    /// Terms `κ_i r_i r_iᵀ` added to A ([`Pcg::set_rank_one`]).
+    rank_one: Vec<(Vec<(usize, f64)>, f64)>,
     r: Vec<f64>,
     z: Vec<f64>,
     p: Vec<f64>,
@@ -83,6 +85,8 @@ struct FactoredBlock {
     dofs: Vec<usize>,
     factor: SingleFactor,
     work: Vec<f32>,
+    /// `A_SS` itself, refactored with the rank-one terms when they change.
+    a_ss: SpMat,
 }
 
 impl FactoredBlock {
@@ -231,6 +235,33 @@ fn next_direction(p: &mut [f64], z: &[f64], beta: f64) {
         .for_each(|(p, z)| scale_add(p, beta, 1.0, z));
 }
 
+/// The name of the factored block of the matrix `name` in messages.
+fn block_name(name: &str) -> String {
+    format!("{name} (stiffness-dominated block)")
+}
+
+/// `y += Π Σ_i κ_i r_i (r_iᵀ x)` (Π: zero where not `free`, when given), returning its part of
+/// `xᵀ y`, `Σ_i κ_i (r_iᵀ x) (r_iᵀ Π x)`.
+fn add_rank_one(
+    terms: &[(Vec<(usize, f64)>, f64)],
+    y: &mut [f64],
+    x: &[f64],
+    free: Option<&[bool]>,
+) -> f64 {
+    let kept = |j: usize| free.map_or(true, |f| f[j]);
+    let mut xy = 0.0;
+    for (row, kappa) in terms {
+        let s: f64 = row.iter().map(|&(j, v)| v * x[j]).sum();
+        let mut s_kept = 0.0;
+        for &(j, v) in row.iter().filter(|e| kept(e.0)) {
+            y[j] += kappa * s * v;
+            s_kept += v * x[j];
+        }
+        xy += kappa * s * s_kept;
+    }
+    xy
+}
+
 /// The principal submatrix `A_SS` (rows and columns `dofs`, in that order).
 pub fn principal_submatrix(a: &SpMat, dofs: &[usize]) -> Result<SpMat> {
     let mut index = vec![usize::MAX; a.nrows()];
@@ -280,20 +311,20 @@ impl Pcg {
         let block = if dofs.is_empty() {
             None
         } else {
-            let factor = SingleFactor::cholesky(
-                &principal_submatrix(a, &dofs)?,
-                &format!("{name} (stiffness-dominated block)"),
-            )?;
+            let a_ss = principal_submatrix(a, &dofs)?;
+            let factor = SingleFactor::cholesky(&a_ss, &block_name(name))?;
             Some(FactoredBlock {
                 work: vec![0.0; dofs.len()],
                 dofs,
                 factor,
+                a_ss,
             })
         };
         Ok(Self {
             op,
             jacobi,
             block,
+            rank_one: Vec::new(),
             r: vec![0.0; n],
             z: vec![0.0; n],
             p: vec![0.0; n],
@@ -304,6 +335,33 @@ impl Pcg {
     /// Size of the factored block (0 for plain Jacobi).
     pub fn block_len(&self) -> usize {
         self.block.as_ref().map_or(0, |b| b.dofs.len())
+    }
+
+    /// Solves with `A + Σ_i κ_i r_i r_iᵀ` from now on (sparse rows `r_i`, `κ_i ≥ 0`: the active
+    /// points of a compliant contact law), until the next call; the factored block is factored
+    /// again with the terms' entries inside it (those outside it are left to the product: the
+    /// caller puts the rows' dofs in the block).
+    pub fn set_rank_one(&mut self, terms: Vec<(Vec<(usize, f64)>, f64)>, name: &str) -> Result<()> {
+        if let Some(bl) = self.block.as_mut() {
+            let mut index = vec![usize::MAX; self.r.len()];
+            for (k, &i) in bl.dofs.iter().enumerate() {
+                index[i] = k;
+            }
+            let n = bl.dofs.len();
+            let mut t = TripletBuilder::new(n, n);
+            t.add_scaled(0, 0, 1.0, &bl.a_ss);
+            for (row, kappa) in &terms {
+                let inside = row.iter().filter(|e| index[e.0] != usize::MAX);
+                for &(i, vi) in inside.clone() {
+                    for &(j, vj) in inside.clone() {
+                        t.add(index[i], index[j], kappa * vi * vj);
+                    }
+                }
+            }
+            bl.factor = SingleFactor::cholesky(&t.build()?, &block_name(name))?;
+        }
+        self.rank_one = terms;
+        Ok(())
     }
 
     /// Solves `A x = b` for the entries where `free` is true, the others of `x` fixed at their
@@ -360,6 +418,7 @@ impl Pcg {
     fn residual(&mut self, b: &[f64], x: &[f64], free: &[bool]) -> f64 {
         let (r, q) = (&mut self.r, &mut self.q);
         self.op.mul(q, x);
+        add_rank_one(&self.rank_one, q, x, None);
         for i in 0..x.len() {
             r[i] = if free[i] { b[i] - q[i] } else { 0.0 };
         }
@@ -381,6 +440,7 @@ impl Pcg {
             op,
             jacobi,
             block,
+            rank_one,
             r,
             z,
             p,
@@ -399,7 +459,9 @@ impl Pcg {
             if it == limit {
                 break;
             }
-            let alpha = rz / op.mul_masked_dot_fast(q, p, free);
+            let curvature =
+                op.mul_masked_dot_fast(q, p, free) + add_rank_one(rank_one, q, p, Some(free));
+            let alpha = rz / curvature;
             if let Some(bl) = block.as_mut() {
                 bl.load(|i| r[i] - alpha * q[i]);
             }

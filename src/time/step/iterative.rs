@@ -34,9 +34,9 @@ use crate::problem::Problem;
 /// step errors accumulate; at 1e-10 the trajectories agree with the direct solve to 1e-6.
 pub const CG_TOLERANCE: f64 = 1e-10;
 /// CG iterations allowed per solve.
-const CG_MAX_ITERATIONS: usize = 5000;
+pub(super) const CG_MAX_ITERATIONS: usize = 5000;
 /// Active-set updates allowed per step.
-const MAX_ACTIVE_SET_UPDATES: usize = 50;
+pub(super) const MAX_ACTIVE_SET_UPDATES: usize = 50;
 /// Relative residual from which CG stops early at an iterate that changes the active set
 /// (hertz3d n = 20, 60 steps: 2 602, 2 631, 2 689 and 2 783 CG iterations from 1e-5, 1e-6,
 /// 1e-7 and 1e-8, in 113, 77, 76 and 76 solves: at 1e-5 many early verdicts are spurious, from
@@ -44,7 +44,7 @@ const MAX_ACTIVE_SET_UPDATES: usize = 50;
 const ACTIVE_SET_CHECK: f64 = 1e-7;
 /// Relative thresholds τ of the active-set update (above CG's accuracy, so that round-off
 /// does not flip a grazing point).
-const ACTIVE_SET_TOLERANCE: f64 = 1e-8;
+pub(super) const ACTIVE_SET_TOLERANCE: f64 = 1e-8;
 
 /// The CG step with its active set and solution history.
 pub struct IterativeStep {
@@ -56,9 +56,49 @@ pub struct IterativeStep {
     points: Vec<(usize, f64)>,
     free: Vec<bool>,
     active: Vec<bool>,
-    /// The last three solutions, newest first, and how many are set.
-    history: [Vec<f64>; 4],
+    history: History,
+}
+
+/// The last four solutions, newest first, and how many are set: the initial guess of CG.
+pub(super) struct History {
+    solutions: [Vec<f64>; 4],
     filled: usize,
+}
+
+impl History {
+    pub(super) fn new(n: usize) -> Self {
+        Self {
+            solutions: [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            filled: 0,
+        }
+    }
+
+    /// The initial guess: `u` itself, then the constant, linear, quadratic and cubic
+    /// extrapolation of the previous solutions.
+    pub(super) fn extrapolate(&self, u: &mut [f64]) {
+        let [h0, h1, h2, h3] = &self.solutions;
+        match self.filled {
+            0 => {}
+            1 => u.copy_from_slice(h0),
+            2 => linalg::combine(u, (2.0, h0), (-1.0, h1)),
+            3 => {
+                for (((x, a), b), c) in u.iter_mut().zip(h0).zip(h1).zip(h2) {
+                    *x = 3.0 * (a - b) + c;
+                }
+            }
+            _ => {
+                for ((((x, a), b), c), d) in u.iter_mut().zip(h0).zip(h1).zip(h2).zip(h3) {
+                    *x = 4.0 * (a + c) - 6.0 * b - d;
+                }
+            }
+        }
+    }
+
+    pub(super) fn remember(&mut self, u: &[f64]) {
+        self.solutions.rotate_right(1);
+        self.solutions[0].copy_from_slice(u);
+        self.filled = (self.filled + 1).min(4);
+    }
 }
 
 impl IterativeStep {
@@ -82,17 +122,16 @@ impl IterativeStep {
             active: vec![false; points.len()],
             points,
             free: vec![true; n],
-            history: [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]],
-            filled: 0,
+            history: History::new(n),
         })
     }
 
     /// Solves `A U = r` without contact.
     pub fn solve_free(&mut self, r: &[f64], u: &mut [f64], w: &mut [f64]) -> Result<()> {
         self.free.fill(true);
-        self.extrapolate(u);
+        self.history.extrapolate(u);
         self.cg(r, u, (0, f64::NAN), None)?;
-        self.remember(u);
+        self.history.remember(u);
         w.copy_from_slice(u);
         Ok(())
     }
@@ -106,7 +145,7 @@ impl IterativeStep {
         lambda: &mut [f64],
         at: (usize, f64),
     ) -> Result<SolveInfo> {
-        self.extrapolate(u);
+        self.history.extrapolate(u);
         let tau = thresholds(u, r, self.c);
         // The active set predicted by the extrapolated solution: one update before the first
         // solve, so that the points entering or leaving contact on smooth motion do not cost a
@@ -117,7 +156,7 @@ impl IterativeStep {
             self.fix_active(offset, u);
             self.cg(r, u, at, Some((offset, tau)))?;
             if !self.update_active((r, offset), tau, u, lambda) {
-                self.remember(u);
+                self.history.remember(u);
                 w.copy_from_slice(u);
                 return Ok(SolveInfo {
                     iterations: update,
@@ -215,33 +254,6 @@ impl IterativeStep {
         })?;
         Ok(())
     }
-
-    /// The initial guess: `u` itself, then the constant, linear, quadratic and cubic extrapolation of
-    /// the previous solutions.
-    fn extrapolate(&self, u: &mut [f64]) {
-        let [h0, h1, h2, h3] = &self.history;
-        match self.filled {
-            0 => {}
-            1 => u.copy_from_slice(h0),
-            2 => linalg::combine(u, (2.0, h0), (-1.0, h1)),
-            3 => {
-                for (((x, a), b), c) in u.iter_mut().zip(h0).zip(h1).zip(h2) {
-                    *x = 3.0 * (a - b) + c;
-                }
-            }
-            _ => {
-                for ((((x, a), b), c), d) in u.iter_mut().zip(h0).zip(h1).zip(h2).zip(h3) {
-                    *x = 4.0 * (a + c) - 6.0 * b - d;
-                }
-            }
-        }
-    }
-
-    fn remember(&mut self, u: &[f64]) {
-        self.history.rotate_right(1);
-        self.history[0].copy_from_slice(u);
-        self.filled = (self.filled + 1).min(4);
-    }
 }
 
 /// The Signorini law at the contact points for a step's right-hand side `r` and offsets `o`,
@@ -302,7 +314,7 @@ fn thresholds(u: &[f64], r: &[f64], c: f64) -> (f64, f64) {
 /// redistributed mass is far from diagonally dominant). Jacobi alone needs about 400 CG
 /// iterations per solve on `hertz3d`, 20 to 40 with this block (4 422 of 51 651 dofs); the
 /// standard mass has no massless dof and keeps plain Jacobi.
-fn massless_neighbourhood(m: &SpMat, k: &SpMat) -> Vec<usize> {
+pub(super) fn massless_neighbourhood(m: &SpMat, k: &SpMat) -> Vec<usize> {
     let mass = linalg::diagonal(m);
     let mut block = vec![false; mass.len()];
     for (i, j, _) in linalg::triplets(k) {

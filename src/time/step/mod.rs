@@ -22,6 +22,7 @@
 //! ([`ContactStep::solve_with`]).
 
 pub mod cfl;
+pub mod compliant;
 pub mod contact_step;
 pub mod direct;
 pub mod explicit;
