@@ -19,11 +19,11 @@
 //! the probe's displacement and total force agree with the direct step's to 2e-7 relative.
 
 use super::iterative::{
-    massless_neighbourhood, History, ACTIVE_SET_TOLERANCE, CG_MAX_ITERATIONS, CG_TOLERANCE,
-    MAX_ACTIVE_SET_UPDATES,
+    massless_neighbourhood, not_converged, unsettled, History, ACTIVE_SET_TOLERANCE,
+    CG_MAX_ITERATIONS, CG_TOLERANCE, MAX_ACTIVE_SET_UPDATES,
 };
 use crate::contact::SolveInfo;
-use crate::error::{Error, Result, SolverError};
+use crate::error::{Error, Result};
 use crate::linalg::{self, Pcg, SpMat};
 use crate::problem::Problem;
 
@@ -137,14 +137,7 @@ impl CompliantStep {
                 });
             }
         }
-        Err(Error::ContactSolver {
-            step: at.0,
-            time: at.1,
-            reason: SolverError::NotConverged {
-                method: "the active set of the cg step (Nitsche)",
-                detail: format!("no settled set in {MAX_ACTIVE_SET_UPDATES} updates"),
-            },
-        })
+        Err(unsettled("the active set of the cg step (Nitsche)", at))
     }
 
     /// `R_i u − o_i` (> 0: point i penetrates).
@@ -176,19 +169,10 @@ impl CompliantStep {
         self.pcg.set_rank_one(terms, NAME)
     }
 
-    fn cg(&mut self, r: &[f64], u: &mut [f64], (step, time): (usize, f64)) -> Result<()> {
+    fn cg(&mut self, r: &[f64], u: &mut [f64], at: (usize, f64)) -> Result<()> {
         self.pcg
             .solve(r, u, &self.all, (CG_TOLERANCE, CG_MAX_ITERATIONS))
-            .map_err(|res| Error::ContactSolver {
-                step,
-                time,
-                reason: SolverError::NotConverged {
-                    method: "cg",
-                    detail: format!(
-                        "relative residual {res:.3e} after {CG_MAX_ITERATIONS} iterations"
-                    ),
-                },
-            })?;
+            .map_err(|res| not_converged(res, at))?;
         Ok(())
     }
 }

@@ -164,14 +164,7 @@ impl IterativeStep {
                 });
             }
         }
-        Err(Error::ContactSolver {
-            step: at.0,
-            time: at.1,
-            reason: SolverError::NotConverged {
-                method: "the active set of the cg step",
-                detail: format!("no settled set in {MAX_ACTIVE_SET_UPDATES} updates"),
-            },
-        })
+        Err(unsettled("the active set of the cg step", at))
     }
 
     /// Fixes `U_{d_i} = o_i / b_i` on the active points and frees the other dofs.
@@ -244,15 +237,33 @@ impl IterativeStep {
             (CG_TOLERANCE, CG_MAX_ITERATIONS),
             (check, changes),
         )
-        .map_err(|res| Error::ContactSolver {
-            step,
-            time,
-            reason: SolverError::NotConverged {
-                method: "cg",
-                detail: format!("relative residual {res:.3e} after {CG_MAX_ITERATIONS} iterations"),
-            },
-        })?;
+        .map_err(|res| not_converged(res, (step, time)))?;
         Ok(())
+    }
+}
+
+/// CG stopped at the relative residual `res` after [`CG_MAX_ITERATIONS`] at `(step, time)`.
+pub(super) fn not_converged(res: f64, (step, time): (usize, f64)) -> Error {
+    Error::ContactSolver {
+        step,
+        time,
+        reason: SolverError::NotConverged {
+            method: "cg",
+            detail: format!("relative residual {res:.3e} after {CG_MAX_ITERATIONS} iterations"),
+        },
+    }
+}
+
+/// The active set `method` kept changing for [`MAX_ACTIVE_SET_UPDATES`] updates at
+/// `(step, time)`.
+pub(super) fn unsettled(method: &'static str, (step, time): (usize, f64)) -> Error {
+    Error::ContactSolver {
+        step,
+        time,
+        reason: SolverError::NotConverged {
+            method,
+            detail: format!("no settled set in {MAX_ACTIVE_SET_UPDATES} updates"),
+        },
     }
 }
 
