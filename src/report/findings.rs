@@ -97,6 +97,15 @@ impl<'a> Data<'a> {
         )
     }
 
+    /// Whether every run of a case × sweep is at level 0: a sweep of one level, with no order
+    /// to fit.
+    fn single_level(&self, (case, sweep): (&str, &str)) -> bool {
+        self.records
+            .iter()
+            .filter(|r| r.summary.case == case && r.sweep == sweep)
+            .all(|r| r.level == 0)
+    }
+
     /// The spaces and methods of a case × sweep, in record order.
     fn grid(&self, (case, sweep): (&str, &str)) -> (Vec<String>, Vec<String>) {
         let rs = || {
@@ -162,8 +171,26 @@ pub fn findings(
                 format!("{}: {}", case.kind, case.title)
             },
         );
-        for sweep in &sweeps {
+        // A full report's one-level sweeps (slide2d's, the pairs' `invariants`) have no order
+        // to fit: a matrix of "too few levels" would say nothing.
+        let (single, fitted): (Vec<&String>, Vec<&String>) = sweeps
+            .iter()
+            .partition(|s| !quick && data.single_level((&case.kind, s)));
+        for sweep in fitted {
             matrix(d, &data, (&case.kind, sweep));
+        }
+        if !single.is_empty() {
+            let names: Vec<String> = single.iter().map(|s| format!("`{s}`")).collect();
+            let (noun, each) = if names.len() == 1 {
+                ("Sweep", "")
+            } else {
+                ("Sweeps", " each")
+            };
+            d.para(Rich::parse(&format!(
+                "{noun} {}: one level{each}, no order to fit; their runs are read in the case's \
+                 section below and in the \"Friction\" or \"Two bodies\" section.",
+                names.join(", ")
+            )));
         }
         let found: Vec<Rich> = CLAIMS
             .iter()

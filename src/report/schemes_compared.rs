@@ -3,7 +3,8 @@
 //!
 //! A case × sweep is compared when it runs at least [`MIN_SCHEMES`] distinct time schemes (the
 //! sweeps that put the time-scheme cures beside the space cures: bar1d's and bar_flight's
-//! `orders`, block2d's `schemes`). One row per scheme × space, read at the finest level that
+//! `orders`, block2d's `schemes`) without friction (with friction the energy drift is mostly the
+//! work friction dissipates: the "Friction" section reads those runs). One row per scheme × space, read at the finest level that
 //! finished: the energy drift `max_n |E_n − E_0| / E_0` over the run, the energy change
 //! `E_N / E_0 − 1` at the end (after the last impact: every compared run ends out of contact),
 //! the largest penetration `max(0, −g)` at the probe, the total variation of σ_N over the run
@@ -48,14 +49,13 @@ pub fn compared(records: &[RunRecord]) -> Vec<(String, String)> {
     )
     .into_iter()
     .filter(|(case, sweep)| {
-        unique(
+        let runs = || {
             records
                 .iter()
                 .filter(|r| &r.summary.case == case && &r.sweep == sweep)
-                .map(|r| r.summary.scheme.clone()),
-        )
-        .len()
-            >= MIN_SCHEMES
+        };
+        unique(runs().map(|r| r.summary.scheme.clone())).len() >= MIN_SCHEMES
+            && runs().all(|r| r.summary.metrics.friction_balance.is_none())
     })
     .collect()
 }
