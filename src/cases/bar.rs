@@ -69,6 +69,26 @@ impl MeshSpec {
     }
 }
 
+/// What the one-bar case files validate alike, in this order: the material, `geometry.length`,
+/// the kind's own fields (`own`), the mesh and the run with the overrides, and the time scale
+/// of elements of length `length / elements` ([`Material::check_time_scale`]). Returns
+/// `(elements, degree, run)`.
+pub fn validate<T>(
+    (material, length): (&Material, f64),
+    own: impl FnOnce() -> Result<T>,
+    (mesh, mut run): (&MeshSpec, RunSpec),
+    o: &Overrides,
+) -> Result<(usize, usize, RunSpec)> {
+    material.validate()?;
+    crate::error::length("geometry.length", length)?;
+    own()?;
+    let (elements, degree) = mesh.resolve(o)?;
+    o.apply(&mut run);
+    run.validate()?;
+    material.check_time_scale(length / elements.max(1) as f64, run.dt)?;
+    Ok((elements, degree, run))
+}
+
 /// The exact solution a bar case kind is built on, and the kind's name.
 pub trait BarExact: PiecewiseLinearBar + Clone + std::fmt::Debug + 'static {
     /// The case kind (`case = "…"` of its files).

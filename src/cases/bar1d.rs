@@ -52,15 +52,12 @@ pub type Bar1d = Bar<BarImpact>;
 impl Bar1d {
     /// Validates the spec, applies the overrides and builds the discretisation.
     pub fn from_spec(spec: Bar1dSpec, o: &Overrides) -> Result<Self> {
-        spec.material.validate()?;
-        crate::error::length("geometry.length", spec.geometry.length)?;
-        crate::error::non_negative("geometry.lift", spec.geometry.lift)?;
-        let (elements, degree) = spec.mesh.resolve(o)?;
-        let mut run = spec.run;
-        o.apply(&mut run);
-        run.validate()?;
-        spec.material
-            .check_time_scale(spec.geometry.length / elements.max(1) as f64, run.dt)?;
+        let (elements, degree, run) = super::bar::validate(
+            (&spec.material, spec.geometry.length),
+            || crate::error::non_negative("geometry.lift", spec.geometry.lift),
+            (&spec.mesh, spec.run),
+            o,
+        )?;
         let exact = BarImpact {
             length: spec.geometry.length,
             young: spec.material.young,

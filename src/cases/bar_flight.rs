@@ -63,16 +63,16 @@ pub type BarFlightCase = Bar<BarFlight>;
 impl BarFlightCase {
     /// Validates the spec, applies the overrides and builds the (free) discretisation.
     pub fn from_spec(spec: BarFlightSpec, o: &Overrides) -> Result<Self> {
-        spec.material.validate()?;
-        crate::error::length("geometry.length", spec.geometry.length)?;
-        non_negative("geometry.gap", spec.geometry.gap)?;
-        positive("initial.speed", spec.initial.speed)?;
-        let (elements, degree) = spec.mesh.resolve(o)?;
-        let mut run = spec.run;
-        o.apply(&mut run);
-        run.validate()?;
-        spec.material
-            .check_time_scale(spec.geometry.length / elements.max(1) as f64, run.dt)?;
+        let own = || {
+            non_negative("geometry.gap", spec.geometry.gap)?;
+            positive("initial.speed", spec.initial.speed)
+        };
+        let (elements, degree, run) = super::bar::validate(
+            (&spec.material, spec.geometry.length),
+            own,
+            (&spec.mesh, spec.run),
+            o,
+        )?;
         let exact = BarFlight {
             length: spec.geometry.length,
             young: spec.material.young,
