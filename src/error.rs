@@ -149,6 +149,18 @@ impl Error {
         }
     }
 
+    /// The error named after the case file `path` when it is about the case's input (a field's
+    /// value, an unknown name, a refused combination), as the errors of reading the file are;
+    /// run-time errors (divergence, solver failures) name their step instead.
+    pub fn from_case_input(self, path: &std::path::Path) -> Self {
+        match self {
+            Error::InvalidField { .. } | Error::UnknownName { .. } | Error::Unsupported(_) => {
+                self.in_case_file(path)
+            }
+            _ => self,
+        }
+    }
+
     /// The error preceded by `context` (`<context>: <error>`).
     pub fn context(self, context: impl std::fmt::Display) -> Self {
         Error::Context {

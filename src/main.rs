@@ -305,7 +305,8 @@ fn main_result(cli: Cli) -> Result<()> {
                 t_end,
                 friction,
             };
-            let case = cases::load(&case, &overrides)?;
+            let path = case;
+            let case = cases::load(&path, &overrides)?;
             let fields = vtu.map(|dir| run::FieldOutput {
                 dir,
                 every: vtu_every as usize,
@@ -314,7 +315,8 @@ fn main_result(cli: Cli) -> Result<()> {
                 case.as_ref(),
                 std::io::stdout().is_terminal(),
                 fields.as_ref(),
-            )?;
+            )
+            .map_err(|e| e.from_case_input(&path))?;
             run::write_run(&out, &result)?;
             let s = &result.summary;
             let m = &s.metrics;

@@ -386,7 +386,15 @@ fn a_space_that_would_leave_the_bar_without_mass_is_refused() {
             "--out",
             o.to_str().unwrap(),
         ]);
-        assert_clear_error(&out, &["mesh.elements`: 1", space, "without mass"]);
+        assert_clear_error(
+            &out,
+            &[
+                "cases/bar1d.toml: ",
+                "mesh.elements`: 1",
+                space,
+                "without mass",
+            ],
+        );
     }
 }
 
