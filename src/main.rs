@@ -123,8 +123,8 @@ enum Command {
         /// Final time.
         #[arg(long = "t-end", allow_negative_numbers = true)]
         t_end: Option<f64>,
-        /// Coulomb friction coefficient μ at the plane (2D/3D body cases; 0: frictionless),
-        /// replacing the case's `[contact] friction`.
+        /// Coulomb friction coefficient μ at the plane or between two bodies (2D/3D body cases
+        /// and pairs; 0: frictionless), replacing the case's `[contact] friction`.
         #[arg(long, allow_negative_numbers = true)]
         friction: Option<f64>,
         /// Output directory.

@@ -371,7 +371,8 @@ pub struct Overrides {
     pub dt: Option<f64>,
     /// `--t-end`.
     pub t_end: Option<f64>,
-    /// `--friction`: the Coulomb coefficient μ of a 2D/3D body case (its `[contact] friction`).
+    /// `--friction`: the Coulomb coefficient μ of a 2D/3D body case or pair (its `[contact]
+    /// friction`).
     pub friction: Option<f64>,
 }
 
@@ -445,6 +446,8 @@ pub const CASES: &[&str] = &[
     "two_bars",
     "two_discs",
     "two_spheres",
+    "two_blocks2d",
+    "two_blocks3d",
 ];
 
 #[derive(Deserialize)]
@@ -506,7 +509,9 @@ impl CaseFile {
             }
             "spring_mass" => Spec::SpringMass(spec_from_str(&text, path)?),
             "two_bars" => Spec::TwoBars(spec_from_str(&text, path)?),
-            "two_discs" | "two_spheres" => Spec::TwoBodies(Box::new(spec_from_str(&text, path)?)),
+            "two_discs" | "two_spheres" | "two_blocks2d" | "two_blocks3d" => {
+                Spec::TwoBodies(Box::new(spec_from_str(&text, path)?))
+            }
             other => {
                 return Err(Error::UnknownName {
                     kind: "case",
@@ -563,8 +568,8 @@ impl CaseFile {
                 "applies to the 2D/3D body cases only",
             ),
             Spec::TwoBodies(_) => (
-                &["--mesh", "--friction"],
-                "applies to one body: two bodies are generated meshes in frictionless contact",
+                &["--mesh"],
+                "applies to one body: two bodies are generated meshes",
             ),
             Spec::SpringMass(_) => (
                 &["--mesh", "--cells", "--elements", "--degree", "--friction"],

@@ -1,6 +1,6 @@
-//! `two_discs` / `two_spheres`: two free elastic bodies meeting along the line of impact e_d
-//! (issue 24 §2; `notes/papers/two_body_contact.md`), the curved-body impact of
-//! [`super::body`] with the rigid plane replaced by a second body.
+//! `two_discs` / `two_spheres` / `two_blocks2d` / `two_blocks3d`: two free elastic bodies meeting
+//! along the line of impact e_d (issue 24 §2; `notes/papers/two_body_contact.md`), the
+//! curved-body impact of [`super::body`] with the rigid plane replaced by a second body.
 //!
 //! Body 1 (the slave) is the body of a `hertz2d`/`hertz3d` case file: generated touching
 //! `x_d = 0` from above (or lifted by `geometry.lift`), moving at `geometry.velocity < 0`. Body 2
@@ -11,6 +11,13 @@
 //! body 1's, the equal and opposite velocities ±v/2 of a pair in its centre-of-mass frame).
 //! The slave's Γ_C vertices are paired node-to-segment on the master's Γ_C faces
 //! ([`crate::fem::bodies`]); no external force, so the momentum `(M̃ 1_d)ᵀ V` is an invariant.
+//!
+//! **Friction and weight** (issue 25 §1): `[contact] friction = μ` of body 1 (or `--friction`)
+//! is Coulomb's law on the interface rows ([`Bodies::friction`]); each body may carry its own
+//! weight (`geometry.gravity`, along −e_d) and slide along e_1 (`geometry.tangential_velocity`,
+//! in the global frame for both bodies; body 2's are 0 unless `[master.geometry]` gives them).
+//! `cases/slide_on_block2d.toml` presses a block on another by its weight alone: the pair's
+//! rigid-body answer is [`crate::exact::slide::SlideOnBlock`].
 //!
 //! **Hertz reference** (Johnson 1985, §4.2): two curved bodies in contact are Hertz's body of
 //! relative curvature `1/R* = 1/R₁ + 1/R₂` (a box: 0), modulus `1/E* = Σ (1 − ν_i²)/E_i` and
@@ -33,7 +40,12 @@ use crate::space::Space;
 use serde::Deserialize;
 
 /// Case kinds of this module with their dimension.
-pub const KINDS: &[(&str, usize)] = &[("two_discs", 2), ("two_spheres", 3)];
+pub const KINDS: &[(&str, usize)] = &[
+    ("two_discs", 2),
+    ("two_spheres", 3),
+    ("two_blocks2d", 2),
+    ("two_blocks3d", 3),
+];
 
 /// The estimated [`Size`] of a pair, for the scheduler: twice body 1's generated mesh (body 2
 /// is its image unless `[master]` gives another, which this estimate ignores).
@@ -67,6 +79,10 @@ pub struct MasterSpec {
     /// Its Γ_C (default: body 1's rule).
     #[serde(default)]
     pub contact: Option<ContactSpec>,
+    /// Whether it rests on a frictionless rigid plane under it (its faces facing −e_d, nodal
+    /// rows beside the interface's; default false: it flies free).
+    #[serde(default)]
+    pub plane: bool,
 }
 
 /// The whole case file of two bodies.
@@ -109,6 +125,8 @@ pub struct TwoBodies {
     pub bodies: Bodies,
     /// The pair's impact against Hertz (curved body 1), built once.
     impact: Option<Impact>,
+    /// Body 2 rests on a frictionless rigid plane.
+    plane: bool,
     run: RunSpec,
     sweeps: Vec<SweepSpec>,
     history: Vec<HistorySpec>,
@@ -207,34 +225,32 @@ impl TwoBodies {
                 "two bodies are generated meshes (no Gmsh input with two volumes yet)",
             ));
         }
-        let frictional = [Some(&spec.contact), spec.master.contact.as_ref()]
-            .into_iter()
-            .flatten()
-            .find_map(|c| c.friction);
-        if let Some(mu) = frictional {
+        if let Some(mu) = spec.master.contact.as_ref().and_then(|c| c.friction) {
             return Err(Error::invalid(
-                "contact.friction",
+                "master.contact.friction",
                 mu,
-                "two bodies are in frictionless contact (no friction between bodies yet)",
+                "the interface's μ is body 1's [contact] friction",
             ));
         }
-        let g = &spec.geometry;
-        let unused = [
-            ("geometry.gravity", g.gravity),
-            ("geometry.tangential_velocity", g.tangential_velocity),
-            ("geometry.slope", g.slope),
-        ];
-        if let Some((field, value)) = unused.into_iter().find(|u| u.1 != 0.0) {
+        let slopes = [Some(&spec.geometry), spec.master.geometry.as_ref()];
+        if let Some(slope) = slopes
+            .into_iter()
+            .flatten()
+            .map(|g| g.slope)
+            .find(|&a| a != 0.0)
+        {
             return Err(Error::invalid(
-                field,
-                value,
-                "two free bodies meet head-on along e_d, without gravity (0)",
+                "geometry.slope",
+                slope,
+                "two bodies meet along e_d, without a slope (0)",
             ));
         }
         let m = &spec.master;
         let material2 = m.material.clone().unwrap_or_else(|| spec.material.clone());
         let geometry2 = m.geometry.clone().unwrap_or_else(|| Geometry {
             lift: 0.0,
+            tangential_velocity: 0.0,
+            gravity: 0.0,
             ..spec.geometry.clone()
         });
         let part = |material: Material, geometry: Geometry, mesh, contact| {
@@ -276,11 +292,11 @@ impl TwoBodies {
             .iter()
             .zip(["geometry.velocity", "master.geometry.velocity"])
         {
-            if p.geometry.velocity >= 0.0 {
+            if p.geometry.velocity > 0.0 {
                 return Err(Error::invalid(
                     field,
                     p.geometry.velocity,
-                    "must be < 0 (towards the other body)",
+                    "must be ≤ 0 (towards the other body, or at rest)",
                 ));
             }
         }
@@ -306,10 +322,39 @@ impl TwoBodies {
             parts,
             bodies,
             impact,
+            plane: spec.master.plane,
             run,
             sweeps: spec.sweep,
             history: spec.history,
         })
+    }
+}
+
+impl TwoBodies {
+    /// The nodal rows of body 2 on the rigid plane under it (`x_d` at its lowest node): its faces
+    /// facing −e_d in the global frame, with tangential rows when `friction` (frictionless
+    /// there: [`crate::problem::Friction::frictionless`]).
+    fn support(&self, friction: bool) -> Result<crate::problem::Contact> {
+        let master = &self.bodies.parts[1];
+        let d = master.dim();
+        let mut mesh = master.mesh.clone();
+        mesh.contact_faces = None;
+        let lowest = mesh
+            .nodes
+            .iter()
+            .map(|x| x[d - 1])
+            .fold(f64::INFINITY, f64::min);
+        let fem = Discretisation::new(
+            mesh,
+            master.lame,
+            master.density,
+            crate::mesh::ContactRule::Facing(crate::mesh::FACING),
+        )?;
+        let mut contact = fem.contact(-lowest)?;
+        if friction {
+            contact.friction = Some(fem.friction(0.0)?);
+        }
+        Ok(contact)
     }
 }
 
@@ -350,27 +395,45 @@ impl Case for TwoBodies {
         Some(self.bodies.element())
     }
 
-    /// Both bodies undeformed, body 1 at `v₁ e_d`, body 2 at `|v₂| e_d`.
+    /// Both bodies undeformed, body 1 at `v₁ e_d + v_{t,1} e_1`, body 2 at `|v₂| e_d + v_{t,2} e_1`
+    /// (global frame), each under its own gravity; Coulomb friction on the interface with body
+    /// 1's μ.
     fn problem(&self, space: &dyn Space) -> Result<Problem> {
         let d = self.bodies.dim();
-        let speeds = [
-            self.parts[0].geometry.velocity,
-            -self.parts[1].geometry.velocity,
-        ];
         let initial: Vec<Initial> = self
             .bodies
             .parts
             .iter()
-            .zip(speeds)
-            .map(|(p, v)| Initial {
-                displacement: vec![0.0; p.n_dofs()],
-                velocity: p
-                    .interpolate(|_| std::array::from_fn(|k| if k == d - 1 { v } else { 0.0 })),
-                gravity: None,
-                lift: 0.0,
+            .zip(&self.parts)
+            .zip([1.0, -1.0])
+            .map(|((p, body), sign)| {
+                let g = &body.geometry;
+                let v = sign * g.velocity;
+                Initial {
+                    displacement: vec![0.0; p.n_dofs()],
+                    velocity: p.interpolate(|_| {
+                        std::array::from_fn(|k| match k {
+                            k if k == d - 1 => v,
+                            0 => g.tangential_velocity,
+                            _ => 0.0,
+                        })
+                    }),
+                    gravity: (g.gravity != 0.0).then_some(g.gravity),
+                    lift: 0.0,
+                }
             })
             .collect();
-        self.bodies.problem(|m| space.inertia(m), &initial)
+        let mut problem = self.bodies.problem(|m| space.inertia(m), &initial)?;
+        let mu = self.parts[0].friction;
+        if mu > 0.0 {
+            problem.contact.friction = Some(self.bodies.friction(0, 1, mu)?);
+        }
+        if self.plane {
+            problem
+                .contact
+                .append(&self.support(mu > 0.0)?, self.bodies.offset(1))?;
+        }
+        Ok(problem)
     }
 
     fn exact(&self) -> Option<&dyn ExactContact> {
@@ -401,8 +464,13 @@ impl Case for TwoBodies {
         self.impact.clone()
     }
 
+    /// The translation along e_d, when no body carries a weight (else its momentum is not an
+    /// invariant).
     fn momentum(&self) -> Option<Vec<f64>> {
-        Some(self.bodies.translation())
+        self.parts
+            .iter()
+            .all(|p| p.geometry.gravity == 0.0)
+            .then(|| self.bodies.translation())
     }
 
     fn bodies(&self) -> Vec<&dyn Case> {

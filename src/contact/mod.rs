@@ -68,6 +68,7 @@ pub fn by_name(name: &str, n_c: usize) -> Result<Box<dyn Solver>> {
         mu: 0.0,
         points: n_c,
         tangents: 0,
+        frictionless: 0,
     };
     match name {
         "active_set" => Ok(Box::new(active_set::ActiveSet::new(n_c))),

@@ -35,6 +35,7 @@ impl Formulation for Nodal {
                     mu: f.mu,
                     points,
                     tangents: f.tangents,
+                    frictionless: f.frictionless,
                 },
             ),
         }

@@ -65,6 +65,57 @@ impl Slide {
     }
 }
 
+/// A block sliding on another with Coulomb friction between them, as two rigid bodies (issue 25
+/// §1): the top block (mass m₁) is launched at v₀ along the top face of the bottom block (mass
+/// m₂, at rest), which rests on a frictionless rigid plane; both carry their weight. Derived: the
+/// interface carries the top's weight, `N = m₁ g`, so while they slip the friction force μ N
+/// decelerates the top at μ g and accelerates the bottom at `μ g m₁/m₂` (the plane carries
+/// `(m₁ + m₂) g` and no tangential force, and takes the friction torque on the bottom block, as
+/// the interface's pressure takes it on the top); their relative velocity
+/// `v_rel = v₀ − μ g (1 + m₁/m₂) t` vanishes at `t* = v₀ m₂/(μ g (m₁ + m₂))`, after which they move
+/// together at `v_c = m₁ v₀/(m₁ + m₂)`. The tangential momentum `m₁ v₀` is conserved and the
+/// friction work is the relative kinetic energy lost, `W_f(t) = ½ m* (v₀² − v_rel(t)²)`,
+/// `m* = m₁ m₂/(m₁ + m₂)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlideOnBlock {
+    /// The top block's slide on a fixed plane: v₀, g, μ.
+    pub top: Slide,
+    /// Masses (m₁ top, m₂ bottom), > 0.
+    pub masses: [f64; 2],
+}
+
+impl SlideOnBlock {
+    /// The relative deceleration `μ g (1 + m₁/m₂)`.
+    fn relative_deceleration(&self) -> f64 {
+        self.top.deceleration() * (1.0 + self.masses[0] / self.masses[1])
+    }
+
+    /// The time they stick, `t* = v₀/(μ g (1 + m₁/m₂))`.
+    pub fn stick_time(&self) -> f64 {
+        self.top.speed / self.relative_deceleration()
+    }
+
+    /// The relative velocity `v_rel(t)`.
+    pub fn relative_velocity(&self, t: f64) -> f64 {
+        (self.top.speed - self.relative_deceleration() * t).max(0.0)
+    }
+
+    /// The blocks' tangential velocities `(v₁(t), v₂(t))`.
+    pub fn velocities(&self, t: f64) -> [f64; 2] {
+        let [m1, m2] = self.masses;
+        let (v0, rel) = (self.top.speed, self.relative_velocity(t));
+        // m₁ v₁ + m₂ v₂ = m₁ v₀ and v₁ − v₂ = v_rel.
+        let v2 = m1 * (v0 - rel) / (m1 + m2);
+        [v2 + rel, v2]
+    }
+
+    /// Friction work `½ m* (v₀² − v_rel(t)²)`.
+    pub fn work(&self, t: f64) -> f64 {
+        let [m1, m2] = self.masses;
+        0.5 * m1 * m2 / (m1 + m2) * (self.top.speed.powi(2) - self.relative_velocity(t).powi(2))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -82,6 +133,21 @@ mod tests {
     fn without_friction_it_keeps_its_speed() {
         let s = Slide::new(1.0, 1.0, 0.0).unwrap();
         assert_eq!((s.velocity(100.0), s.stopping_time()), (1.0, f64::INFINITY));
+    }
+
+    /// Equal masses, v₀ = 1, g = 1, μ = 0.25: the top decelerates at μ g, the bottom
+    /// accelerates at μ g, both at ½ from t* = 2; momentum m₁ v₀ throughout; W_f(t*) = ¼.
+    #[test]
+    fn the_blocks_meet_at_the_common_velocity() {
+        let s = SlideOnBlock {
+            top: Slide::new(1.0, 1.0, 0.25).unwrap(),
+            masses: [1.0, 1.0],
+        };
+        assert_eq!(s.stick_time(), 2.0);
+        assert_eq!(s.velocities(0.0), [1.0, 0.0]);
+        assert_eq!(s.velocities(1.0), [0.75, 0.25]);
+        assert_eq!(s.velocities(9.0), [0.5, 0.5]);
+        assert_eq!((s.work(2.0), s.work(9.0)), (0.25, 0.25));
     }
 
     #[test]

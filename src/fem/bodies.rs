@@ -37,7 +37,7 @@ use crate::error::{Error, Result};
 use crate::fem::discretisation::{Discretisation, Initial};
 use crate::fem::mass_model::{ElementMass, ElementMixed, MassModel, VelocitySpace};
 use crate::linalg::{SpMat, TripletBuilder};
-use crate::problem::{Contact, ContactFace, Inertia, Probe, Problem};
+use crate::problem::{Contact, ContactFace, Friction, Inertia, Probe, Problem};
 
 /// Distance, in master mesh sizes h, within which two faces' projected points are one point
 /// (an edge or vertex where their normals are averaged).
@@ -65,6 +65,10 @@ pub struct Pairing {
     pub slave: usize,
     /// Row `(dof, value)` of `B_N` (global dofs).
     pub row: Vec<(usize, f64)>,
+    /// The rows of `B_T` along the tangents `t_k` of the master face ([`tangents`]): `+t_kᵀ` on
+    /// s, `−N_k t_kᵀ` on k, so that `B_T U` is the slave's tangential displacement relative to
+    /// the master's point (the slip) and the force `+B_Tᵀ r_T` is equal and opposite.
+    pub tangential: Vec<Vec<(usize, f64)>>,
     /// g₀.
     pub g0: f64,
 }
@@ -247,14 +251,26 @@ impl Bodies {
                 continue;
             }
             let g0 = dot(std::array::from_fn(|k| xs[k] - xm[k]), normal);
-            let mut row: Vec<(usize, f64)> = (0..d)
-                .map(|c| (self.global(slave, i, c), -normal[c]))
+            // `−aᵀ` on the slave vertex, `N_k aᵀ` on the master face's vertices.
+            let along = |a: [f64; 3]| {
+                let mut row: Vec<(usize, f64)> =
+                    (0..d).map(|c| (self.global(slave, i, c), -a[c])).collect();
+                for (&k, n) in face.vertices.iter().zip(shape) {
+                    row.extend((0..d).map(|c| (self.global(master, k, c), n * a[c])));
+                }
+                row.retain(|e| e.1 != 0.0);
+                row
+            };
+            let tangential = tangents(normal, d)
+                .into_iter()
+                .map(|t| along(t.map(|x| -x)))
                 .collect();
-            for (&k, n) in face.vertices.iter().zip(shape) {
-                row.extend((0..d).map(|c| (self.global(master, k, c), n * normal[c])));
-            }
-            row.retain(|e| e.1 != 0.0);
-            out.push(Pairing { slave: r, row, g0 });
+            out.push(Pairing {
+                slave: r,
+                row: along(normal),
+                tangential,
+                g0,
+            });
         }
         if out.is_empty() {
             return Err(Error::Mesh {
@@ -315,9 +331,37 @@ impl Bodies {
         })
     }
 
+    /// Coulomb friction with coefficient `mu` on the interface rows of [`Bodies::interface`]:
+    /// `B_T` from each pairing's tangential rows (point-major, as for the plane), and the
+    /// slave's translation along `e_1` (its centre of mass's velocity is `com_velocity_t`).
+    pub fn friction(&self, slave: usize, master: usize, mu: f64) -> Result<Friction> {
+        let pairs = self.pairings(slave, master)?;
+        let tangents = self.dim() - 1;
+        let mut b_t = TripletBuilder::new(pairs.len() * tangents, self.n_dofs());
+        for (r, p) in pairs.iter().enumerate() {
+            for (k, row) in p.tangential.iter().enumerate() {
+                for &(j, v) in row {
+                    b_t.add(r * tangents + k, j, v);
+                }
+            }
+        }
+        let s = &self.parts[slave];
+        let mut translation = vec![0.0; self.n_dofs()];
+        self.place(slave, &s.interpolate(|_| [1.0, 0.0, 0.0]), &mut translation);
+        Ok(Friction {
+            mu,
+            b_t: b_t.build()?,
+            tangents,
+            frictionless: 0,
+            translation,
+        })
+    }
+
     /// The semi-discrete problem of the bodies (body 0 the slave, body 1 the master) with the
-    /// inertia a space builds from the merged element data, from each body's `initial` state
-    /// (no load: the bodies fly free but for their contact). The probe is the slave's normal dof
+    /// inertia a space builds from the merged element data, from each body's `initial` state:
+    /// a body with `gravity` g carries its weight `−ρ g e_d` (each body its own, so that one may
+    /// press on the other, which flies free but for their contact); the gravitational energy
+    /// `−Fᵀ U` is measured from the reference configuration. The probe is the slave's normal dof
     /// at the contact row of smallest initial gap.
     pub fn problem(
         &self,
@@ -332,13 +376,14 @@ impl Bodies {
         let inertia = inertia(&self.mass_model())?;
         let contact = self.interface(0, 1)?;
         let n = self.n_dofs();
-        let (mut u0, mut v0) = (vec![0.0; n], vec![0.0; n]);
+        let (mut u0, mut v0, mut f) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         for (b, init) in initial.iter().enumerate() {
-            if init.gravity.is_some() {
-                return Err(Error::Unsupported("gravity on a multi-body problem".into()));
-            }
             self.place(b, &init.displacement, &mut u0);
             self.place(b, &init.velocity, &mut v0);
+            if let Some(g) = init.gravity {
+                let p = &self.parts[b];
+                self.place(b, &p.gravity_load(&p.mass_model(), g), &mut f);
+            }
         }
         let first = (0..contact.len())
             .min_by(|&a, &b| contact.g0[a].total_cmp(&contact.g0[b]))
@@ -354,7 +399,7 @@ impl Bodies {
             },
             inertia,
             k: self.stiffness()?,
-            f: vec![0.0; n],
+            f,
             contact,
             u0,
             v0,
@@ -387,6 +432,34 @@ fn merge_velocity(spaces: &[&VelocitySpace]) -> VelocitySpace {
         elements,
         dim,
         dof_of,
+    }
+}
+
+/// The d − 1 unit tangents of the unit normal n, orthonormal and right-handed with it: in 2D
+/// `t = (n_y, −n_x)`; in 3D `t₁` the axis least aligned with n (the first among ties) made
+/// orthogonal to n, `t₂ = n × t₁`. A horizontal interface (`n = e_d`) gets the axes `e_1` (and
+/// `e_2`), the tangents of the rigid plane ([`Discretisation::friction`]).
+fn tangents(n: [f64; 3], d: usize) -> Vec<[f64; 3]> {
+    match d {
+        1 => Vec::new(),
+        2 => vec![[n[1], -n[0], 0.0]],
+        _ => {
+            let k = (0..3)
+                .min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
+                .unwrap_or(0);
+            let mut t = [0.0; 3];
+            t[k] = 1.0;
+            let tn = n[k];
+            t = std::array::from_fn(|c| t[c] - tn * n[c]);
+            let len = t.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let t1 = t.map(|x| x / len);
+            let t2 = [
+                n[1] * t1[2] - n[2] * t1[1],
+                n[2] * t1[0] - n[0] * t1[2],
+                n[0] * t1[1] - n[1] * t1[0],
+            ];
+            vec![t1, t2]
+        }
     }
 }
 

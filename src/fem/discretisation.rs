@@ -419,6 +419,7 @@ impl Discretisation {
             mu,
             b_t: b_t.build()?,
             tangents,
+            frictionless: 0,
             translation,
         })
     }

@@ -1,7 +1,8 @@
 //! The contact rows of the semi-discrete problem: `g = g₀ − B_N U` at the contact points, their
 //! tributary areas (`σ_N = −λ/area`), the faces of Γ_C and its boundary quadrature.
 
-use crate::linalg::{self, SpMat};
+use crate::error::{Error, Result};
+use crate::linalg::{self, SpMat, TripletBuilder};
 use std::borrow::Cow;
 
 /// Contact points: `g = g₀ − B_N U`, tributary areas for the stress `σ_N = −λ/area`.
@@ -49,6 +50,9 @@ pub struct Friction {
     pub b_t: SpMat,
     /// Tangents per point, d − 1.
     pub tangents: usize,
+    /// The last points that are frictionless (μ = 0: their `r_T` vanishes), e.g. a
+    /// frictionless rigid plane under a pair whose interface has friction (0: none).
+    pub frictionless: usize,
     /// The unit translation of the body along the first tangent (dof layout of U): the
     /// centre of mass's tangential velocity is `(M̃1)ᵀV / 1ᵀM̃1`.
     pub translation: Vec<f64>,
@@ -150,7 +154,49 @@ impl Contact {
     }
 }
 
+/// `[a; b]`, b's columns shifted by `offset`.
+fn stack(a: &SpMat, b: &SpMat, offset: usize) -> Result<SpMat> {
+    let mut t = TripletBuilder::new(a.nrows() + b.nrows(), a.ncols());
+    t.add_scaled(0, 0, 1.0, a);
+    t.add_scaled(a.nrows(), offset, 1.0, b);
+    t.build()
+}
+
 impl Contact {
+    /// Appends the nodal rows of `other`, a contact of a body whose dofs start at `offset` (a
+    /// second body's rigid plane): its rows of `B_N`, g₀, areas and faces follow these; the
+    /// boundary quadrature (of one Γ_C, for Nitsche's method) is dropped. Friction with frictionless appended points
+    /// ([`Friction::frictionless`]): `other`'s `B_T`, or refused when it has none.
+    pub fn append(&mut self, other: &Contact, offset: usize) -> Result<()> {
+        let plain = |c: &Contact| {
+            c.vertices.is_none() && c.force.is_none() && c.normal.is_none() && c.energy.is_empty()
+        };
+        if !plain(self) || !plain(other) {
+            return Err(Error::Internal(
+                "only nodal contact rows are appended".into(),
+            ));
+        }
+        let n = self.len();
+        self.b_n = stack(&self.b_n, &other.b_n, offset)?;
+        self.g0.extend(&other.g0);
+        self.area.extend(&other.area);
+        self.faces.extend(other.faces.iter().map(|f| ContactFace {
+            rows: f.rows.iter().map(|r| r + n).collect(),
+            mass: f.mass.clone(),
+        }));
+        self.quadrature = None;
+        if let Some(f) = self.friction.as_mut() {
+            let Some(o) = &other.friction else {
+                return Err(Error::Internal(
+                    "appended contact rows without tangential rows under friction".into(),
+                ));
+            };
+            f.b_t = stack(&f.b_t, &o.b_t, offset)?;
+            f.frictionless += other.len();
+        }
+        Ok(())
+    }
+
     /// Number of contact points n_c.
     pub fn len(&self) -> usize {
         self.g0.len()

@@ -99,7 +99,7 @@ pub(crate) fn residual(
     for p in 0..loc.points.len() {
         let s = p * dim;
         let res = point(
-            loc.mu,
+            loc.mu[p],
             loc.rho[p],
             &r.as_slice()[s..s + dim],
             &u.as_slice()[s..s + dim],
@@ -202,6 +202,7 @@ mod tests {
             mu: 0.3,
             points: 1,
             tangents: 1,
+            frictionless: 0,
         };
         let w = DMatrix::identity(2, 2);
         let mut r = [0.0; 2];
@@ -220,6 +221,7 @@ mod tests {
             mu: 0.5,
             points: 1,
             tangents: 1,
+            frictionless: 0,
         };
         let w = DMatrix::identity(2, 2);
         let mut r = [0.0; 2];
@@ -257,6 +259,7 @@ mod tests {
             mu: 0.4,
             points: 1,
             tangents: 2,
+            frictionless: 0,
         };
         #[rustfmt::skip]
         let w = DMatrix::from_row_slice(3, 3, &[

@@ -66,7 +66,7 @@ impl DeSaxce {
         let diag: Vec<f64> = (0..k)
             .map(|a| {
                 if a % dim == 0 && dim > 1 {
-                    -loc.mu
+                    -loc.mu[a / dim]
                 } else {
                     -1.0
                 }
@@ -119,7 +119,7 @@ fn shifts(loc: &Local, r: &DVector<f64>) -> Vec<f64> {
     (0..loc.points.len())
         .map(|p| {
             let t = (1..dim).map(|c| u[p * dim + c].powi(2)).sum::<f64>();
-            loc.mu * t.sqrt()
+            loc.mu[p] * t.sqrt()
         })
         .collect()
 }
@@ -203,6 +203,7 @@ mod tests {
             mu: 0.4,
             points: 1,
             tangents: 2,
+            frictionless: 0,
         };
         #[rustfmt::skip]
         let w = DMatrix::from_row_slice(3, 3, &[

@@ -45,12 +45,24 @@ pub struct Coulomb {
     pub points: usize,
     /// Tangents per point (d − 1, or 0 without friction).
     pub tangents: usize,
+    /// The last points that are frictionless (μ = 0 there: `r_T = 0`), e.g. a frictionless
+    /// support beside a frictional interface ([`crate::problem::Friction::frictionless`]).
+    pub frictionless: usize,
 }
 
 impl Coulomb {
     /// Whether it is Signorini's law alone (no tangent or μ = 0).
     pub fn is_signorini(&self) -> bool {
         self.tangents == 0 || self.mu == 0.0
+    }
+
+    /// The coefficient at point i: μ, or 0 on the last [`Coulomb::frictionless`] points.
+    pub fn mu_at(&self, i: usize) -> f64 {
+        if i + self.frictionless < self.points {
+            self.mu
+        } else {
+            0.0
+        }
     }
 
     /// Rows per point, 1 + tangents.
@@ -72,6 +84,11 @@ impl Coulomb {
 pub fn by_name(name: &str, law: Coulomb) -> Result<Box<dyn Solver>> {
     match name {
         "alart_curnier" => Ok(Box::new(alart_curnier::AlartCurnier::new(law))),
+        "de_saxce" if law.frictionless > 0 && !law.is_signorini() => Err(Error::Unsupported(
+            "de_saxce with frictionless points beside frictional ones: its cone (μ r_N, r_T) \
+             loses r_N ≥ 0 where μ = 0; use alart_curnier or projected_gauss_seidel"
+                .into(),
+        )),
         "de_saxce" => Ok(Box::new(de_saxce::DeSaxce::new(law))),
         "projected_gauss_seidel" => Ok(Box::new(
             projected_gauss_seidel::ProjectedGaussSeidel::new(law),
@@ -97,7 +114,8 @@ pub fn by_name(name: &str, law: Coulomb) -> Result<Box<dyn Solver>> {
 pub(crate) struct Local {
     pub points: Vec<usize>,
     pub dim: usize,
-    pub mu: f64,
+    /// μ per point in the step.
+    pub mu: Vec<f64>,
     pub w: DMatrix<f64>,
     pub q: DVector<f64>,
     pub rho: Vec<f64>,
@@ -129,7 +147,7 @@ impl Local {
         }
         let local = Self {
             dim,
-            mu: law.mu,
+            mu: points.iter().map(|&i| law.mu_at(i)).collect(),
             q: DVector::from_fn(k, |a, _| q[rows[a]]),
             w,
             rho,
@@ -225,6 +243,7 @@ pub(crate) mod testing {
             mu,
             points: 2,
             tangents: 1,
+            frictionless: 0,
         };
         #[rustfmt::skip]
         let w = DMatrix::from_row_slice(4, 4, &[
@@ -250,12 +269,12 @@ pub(crate) mod testing {
             let rt: Vec<f64> = (1..law.dim()).map(|c| r[law.row(i, c)]).collect();
             let nt = ut.iter().map(|x| x * x).sum::<f64>().sqrt();
             let nr = rt.iter().map(|x| x * x).sum::<f64>().sqrt();
-            worst = worst.max(nr - law.mu * rn);
+            worst = worst.max(nr - law.mu_at(i) * rn);
             // A slip is either negligible (stick, counted as is) or opposed by μ r_N.
             let direction = rt
                 .iter()
                 .zip(&ut)
-                .map(|(a, b)| (a + law.mu * rn * b / nt).abs())
+                .map(|(a, b)| (a + law.mu_at(i) * rn * b / nt).abs())
                 .fold(0.0, f64::max);
             if nt > 0.0 {
                 worst = worst.max(nt.min(direction));

@@ -64,7 +64,7 @@ fn sweep(loc: &Local, rho_t: &[f64], r: &mut DVector<f64>) {
             let ut = row_velocity(loc, r, s + 1 + c);
             *x = r[s + 1 + c] - rho_t[p] * ut;
         }
-        project_disc(&mut rt[..dim - 1], loc.mu * rn);
+        project_disc(&mut rt[..dim - 1], loc.mu[p] * rn);
         for c in 1..dim {
             r[s + c] = rt[c - 1];
         }
