@@ -84,6 +84,24 @@ pub fn by_name(name: &str, n_c: usize) -> Result<Box<dyn Solver>> {
     }
 }
 
+/// The solver called `name` of the law on `contact`'s rows: Signorini's LCP, or with
+/// [`crate::problem::Friction`] Coulomb's law on the normal and tangential rows.
+pub fn law(contact: &crate::problem::Contact, name: &str) -> Result<Box<dyn Solver>> {
+    let points = contact.len();
+    match &contact.friction {
+        None => by_name(name, points),
+        Some(f) => friction::by_name(
+            name,
+            friction::Coulomb {
+                mu: f.mu,
+                points,
+                tangents: f.tangents,
+                frictionless: f.frictionless,
+            },
+        ),
+    }
+}
+
 /// How a time scheme imposes the contact law in its step: what a formulation may need to know
 /// to refuse a scheme (declared by each scheme, `time::Scheme::enforcement`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -126,9 +144,9 @@ pub trait Formulation: Send + Sync + std::fmt::Debug {
     fn takes_solver(&self) -> bool {
         true
     }
-    /// Whether it takes Coulomb friction ([`crate::problem::Friction`]); the others refuse it.
-    fn friction(&self) -> bool {
-        false
+    /// Whether it takes Coulomb friction ([`crate::problem::Friction`]): Ok, or why not.
+    fn friction(&self) -> std::result::Result<(), &'static str> {
+        Err("not implemented for this formulation")
     }
     /// A failure of the run's setup explained in the formulation's terms (default: as is).
     fn explain(&self, error: Error) -> Error {

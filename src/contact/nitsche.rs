@@ -97,6 +97,18 @@ impl Formulation for Nitsche {
         "nitsche"
     }
 
+    /// Refused: Chouly, Hild & Renard's Nitsche friction puts Coulomb's law on the tangential
+    /// stress in a consistent boundary term (rows `σ_T(u)` beside `σ_N(u)`, the slip scaled by
+    /// γ), a formulation not read from a source here; friction is not bolted onto Nitsche's
+    /// normal law by guesswork.
+    fn friction(&self) -> std::result::Result<(), &'static str> {
+        Err(
+            "Nitsche's friction (Chouly, Hild & Renard: Coulomb's law on the tangential stress \
+             σ_T(u) in the consistent boundary term) is not implemented, its formulation not \
+             having been read from a source; use contact = \"nodal\" or \"weak\"",
+        )
+    }
+
     fn check_scheme(&self, scheme: &str, enforcement: Enforcement) -> Result<()> {
         if enforcement == Enforcement::Position {
             return Ok(());

@@ -26,22 +26,10 @@ impl Formulation for Nodal {
     }
 
     fn setup(&self, problem: &mut Problem, solver: &str) -> Result<Box<dyn Solver>> {
-        let points = problem.contact.len();
-        match &problem.contact.friction {
-            None => super::by_name(solver, points),
-            Some(f) => super::friction::by_name(
-                solver,
-                super::friction::Coulomb {
-                    mu: f.mu,
-                    points,
-                    tangents: f.tangents,
-                    frictionless: f.frictionless,
-                },
-            ),
-        }
+        super::law(&problem.contact, solver)
     }
 
-    fn friction(&self) -> bool {
-        true
+    fn friction(&self) -> std::result::Result<(), &'static str> {
+        Ok(())
     }
 }

@@ -49,6 +49,15 @@ impl Formulation for PenaltyContact {
         "penalty"
     }
 
+    /// Refused: with a penalised normal law, friction would want a tangential penalty too, a
+    /// regularisation that changes Coulomb's law.
+    fn friction(&self) -> std::result::Result<(), &'static str> {
+        Err(
+            "a penalised normal law has no exact Coulomb counterpart here (a tangential penalty \
+             would regularise the law); use contact = \"nodal\" or \"weak\"",
+        )
+    }
+
     fn setup(&self, problem: &mut Problem, solver: &str) -> Result<Box<dyn Solver>> {
         let exact = super::by_name(solver, problem.contact.len())?;
         Ok(Box::new(Penalty::new(self.ratio, exact)))

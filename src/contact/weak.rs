@@ -13,6 +13,11 @@
 //! force, as for the nodal rows) and `σ_N = −λ_i / a_i` is the multiplier itself: P1 at the
 //! vertices, P0 per face. The Delassus matrix `S D_nodal Sᵀ` is no longer diagonal-dominant in the
 //! contact rows. In 1D (Γ_C a point) both coincide with the nodal contact.
+//!
+//! Coulomb friction: the tangential multipliers live on the same space, rows `S B_T` per tangent,
+//! and Coulomb's law holds per multiplier, `|r_{T,i}| ≤ μ λ_i` against the multiplier's slip
+//! `Σ_j S_ij Δs_j` (`S` sums to 1 per row, so the total tangential force is `Σ_i r_{T,i}`, as for
+//! the nodal rows).
 
 use super::{Formulation, Solver};
 use crate::error::{Error, Result};
@@ -129,7 +134,9 @@ impl Formulation for Weak {
 
     /// Replaces the nodal rows by `S B_N`, `S g₀`, measures `a_i`; with P0 the probe becomes the
     /// face of lowest initial gap among those containing the probe vertex. The law is
-    /// Signorini's on the new rows.
+    /// Signorini's on the new rows; with Coulomb friction, the tangential rows on the same
+    /// multipliers, `S B_T` per tangent ([`tangential`]), and Coulomb's law per multiplier: the
+    /// multiplier's slip `Σ_j S_ij Δs_j` against its tangential force.
     fn setup(&self, problem: &mut Problem, solver: &str) -> Result<Box<dyn Solver>> {
         let (rows, measure) = self.rows(problem);
         let n_c = problem.contact.len();
@@ -140,6 +147,18 @@ impl Formulation for Weak {
                  stability); use contact_multiplier = \"p1\"",
                 rows.len()
             )));
+        }
+        if problem
+            .contact
+            .friction
+            .as_ref()
+            .is_some_and(|f| f.frictionless > 0)
+        {
+            return Err(Error::Unsupported(
+                "weak contact with friction on rows of which some are frictionless (a pair on a \
+                 plane): the multipliers would mix them; use contact = \"nodal\""
+                    .into(),
+            ));
         }
         let contact = &mut problem.contact;
         let nodal = linalg::rows(&contact.b_n);
@@ -152,6 +171,9 @@ impl Formulation for Weak {
                 }
             }
             g0.push(row.iter().map(|&(j, s)| s * contact.g0[j]).sum());
+        }
+        if let Some(f) = contact.friction.as_mut() {
+            f.b_t = tangential(&rows, &f.b_t, f.tangents)?;
         }
         if self.multiplier == Multiplier::P0 {
             let probe = problem.probe.contact;
@@ -167,6 +189,31 @@ impl Formulation for Weak {
         contact.b_n = b.build()?;
         contact.g0 = g0;
         contact.area = measure;
-        super::by_name(solver, contact.len())
+        super::law(contact, solver)
     }
+
+    fn friction(&self) -> std::result::Result<(), &'static str> {
+        Ok(())
+    }
+}
+
+/// The tangential rows on the multiplier space: row `i (d − 1) + k` is `Σ_j S_ij` times the
+/// nodal row `j (d − 1) + k` of `B_T`, the slip of multiplier i along t_k.
+fn tangential(
+    rows: &[Vec<(usize, f64)>],
+    b_t: &crate::linalg::SpMat,
+    tangents: usize,
+) -> Result<crate::linalg::SpMat> {
+    let nodal = linalg::rows(b_t);
+    let mut t = TripletBuilder::new(rows.len() * tangents, b_t.ncols());
+    for (r, row) in rows.iter().enumerate() {
+        for k in 0..tangents {
+            for &(j, s) in row {
+                for &(dof, v) in &nodal[j * tangents + k] {
+                    t.add(r * tangents + k, dof, s * v);
+                }
+            }
+        }
+    }
+    t.build()
 }

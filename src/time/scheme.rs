@@ -119,9 +119,10 @@ pub fn check_friction(
     if problem.contact.friction.is_none() {
         return Ok(());
     }
-    if !formulation.friction() {
+    if let Err(why) = formulation.friction() {
         return Err(Error::Unsupported(format!(
-            "Coulomb friction is implemented on the nodal contact rows only, not with contact = \"{}\"",
+            "Coulomb friction is implemented on the nodal and weak contact rows, not with \
+             contact = \"{}\": {why}",
             formulation.name()
         )));
     }
