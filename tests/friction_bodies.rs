@@ -234,6 +234,23 @@ fn every_space_and_friction_scheme_slides_on_the_block() {
     }
 }
 
+/// The solvers and formulations that cannot take the frictionless plane's points beside the
+/// frictional interface say so: De Saxcé's cone loses `r_N ≥ 0` where μ = 0; weak multipliers
+/// would mix the two sets of rows.
+#[test]
+fn mixed_frictional_and_frictionless_points_are_refused_where_unsupported() {
+    let e = samples("standard", "backward_euler", |o| {
+        o.options.contact_solver = Some("de_saxce".into())
+    })
+    .unwrap_err();
+    assert!(e.to_string().contains("de_saxce"), "{e}");
+    let e = samples("standard", "backward_euler", |o| {
+        o.options.contact = Some("weak".into())
+    })
+    .unwrap_err();
+    assert!(e.to_string().contains("frictionless"), "{e}");
+}
+
 /// `--friction 0` makes the interface frictionless: no tangential rows, no friction columns.
 #[test]
 fn without_friction_the_top_block_keeps_v0() {
