@@ -97,15 +97,20 @@ impl Formulation for Nitsche {
         "nitsche"
     }
 
-    /// Refused: Chouly, Hild & Renard's Nitsche friction puts Coulomb's law on the tangential
-    /// stress in a consistent boundary term (rows `σ_T(u)` beside `σ_N(u)`, the slip scaled by
-    /// γ), a formulation not read from a source here; friction is not bolted onto Nitsche's
-    /// normal law by guesswork.
+    /// Refused. The formulation is known (GetFEM's Nitsche contact brick,
+    /// `add_Nitsche_contact_with_rigid_obstacle_brick`, `doc/sphinx/source/userdoc/
+    /// model_Nitsche.rst`, after Chouly, Hild & Renard): the normal term's `[·]₊` becomes
+    /// `P_{n,μ}(x) = −(x·n)₋ n + P_{B(0, μ (x·n)₋)}(x − (x·n) n)` of the whole Nitsche vector
+    /// `x = σ(u)n − (A u − g n − α w_T)/γ` (`A = α I + (1 − α) n nᵀ`, `α w_T` the scheme's slip),
+    /// tested against `θ D_uG[v] − v/γ`. It needs the tangential stress rows `σ_T(u)` at the
+    /// quadrature points and a ball projection in the per-step law (`NitscheLaw` solves the
+    /// normal `min(λ, g + (γ/w) λ) = 0` only): not implemented.
     fn friction(&self) -> std::result::Result<(), &'static str> {
         Err(
-            "Nitsche's friction (Chouly, Hild & Renard: Coulomb's law on the tangential stress \
-             σ_T(u) in the consistent boundary term) is not implemented, its formulation not \
-             having been read from a source; use contact = \"nodal\" or \"weak\"",
+            "Nitsche's friction (GetFEM's Nitsche contact brick after Chouly, Hild & Renard: the \
+             projection of σ(u)n − (A u − g n − α w_T)/γ on the Coulomb cone) needs tangential \
+             stress rows σ_T(u) and a ball projection in the per-step Nitsche law, which are not \
+             implemented; use contact = \"nodal\" or \"weak\"",
         )
     }
 

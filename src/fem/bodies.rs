@@ -32,6 +32,12 @@
 //!
 //! The contact dofs are the last components (as for the plane, the bodies meet along e_d: the
 //! axis of the bars in 1D). A slave vertex whose projection falls on no master face gets no row.
+//!
+//! **Friction** ([`Bodies::friction`]): beside each row, the d − 1 rows of `B_T` along the
+//! tangents t_k of `n_m`, `+t_kᵀ` on s and `−N_k t_kᵀ` on k: `B_T ΔU` is the slave's slip
+//! relative to the master's point, and the force `+B_Tᵀ r_T` is again equal and opposite
+//! (`Σ_k N_k = 1`), so the momentum stays an invariant with friction. Small sliding: the
+//! pairing, normals and tangents stay those of the reference configuration.
 
 use crate::error::{Error, Result};
 use crate::fem::discretisation::{Discretisation, Initial};
@@ -765,6 +771,43 @@ mod tests {
         let one = b.translation();
         let total: f64 = inertia.mass_times(&one).unwrap().iter().sum();
         assert!((total - 2.0).abs() < 1e-12, "total mass {total}");
+        // The tangential rows: `+e_x` on the slave vertex, `−N_k e_x` on the master's (the
+        // master normal is e_y): x components only, summing to 0 (equal and opposite forces).
+        for p in &pairs {
+            assert_eq!(p.tangential.len(), 1);
+            let t = &p.tangential[0];
+            assert_eq!(t[0].1, 1.0);
+            assert!(t.iter().all(|e| e.0 % 2 == 0), "x components only: {t:?}");
+            let sum: f64 = t.iter().map(|e| e.1).sum();
+            assert!(sum.abs() < 1e-12, "{t:?}");
+        }
+        let f = b.friction(0, 1, 0.3).unwrap();
+        assert_eq!((f.b_t.nrows(), f.tangents, f.frictionless), (4, 1, 0));
+    }
+
+    /// The tangents of a unit normal are unit, orthogonal to it and to each other, and
+    /// right-handed (`t₁ × t₂ = n` in 3D); the normal e_d gets the axes.
+    #[test]
+    fn tangents_complete_the_normal_to_a_frame() {
+        assert_eq!(tangents([0.0, 1.0, 0.0], 2), vec![[1.0, 0.0, 0.0]]);
+        assert_eq!(
+            tangents([0.0, 0.0, 1.0], 3),
+            vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+        );
+        let l = (1.0_f64 + 4.0 + 9.0).sqrt();
+        let n = [1.0 / l, -2.0 / l, 3.0 / l];
+        let t = tangents(n, 3);
+        let dot = |a: [f64; 3], b: [f64; 3]| (0..3).map(|k| a[k] * b[k]).sum::<f64>();
+        for a in &t {
+            assert!((dot(*a, *a) - 1.0).abs() < 1e-15 && dot(*a, n).abs() < 1e-15);
+        }
+        assert!(dot(t[0], t[1]).abs() < 1e-15);
+        let cross = [
+            t[0][1] * t[1][2] - t[0][2] * t[1][1],
+            t[0][2] * t[1][0] - t[0][0] * t[1][2],
+            t[0][0] * t[1][1] - t[0][1] * t[1][0],
+        ];
+        assert!((0..3).all(|k| (cross[k] - n[k]).abs() < 1e-15), "{cross:?}");
     }
 
     /// Node-to-segment projection: a vertex above the middle of a master segment gets shape
