@@ -244,11 +244,12 @@ fn the_3d_block_slides_on_its_block_as_the_2d_one() {
 /// ≤ 6.1e-11) and the friction work never decreases (measured least increment −4.3e-19). The
 /// spaces that keep the tangential inertia with the position-level schemes follow the rigid
 /// slide within the lag bound (measured ≤ 1.74e-3 on the top block); mass elimination drops the
-/// interface elements' mass in every component and slides off by 1.7e-2 (as at the plane,
-/// `tests/friction.rs`); the singular dynamic method (P2) 2.3e-3; Moreau–Jean (θ = ½) on the
-/// standard and lumped mass 2.2e-3 and 1.9e-3, and it is unstable on the spaces with massless
-/// normal dofs (`E + W_f` off by 3.8, 6.8 and 25 × E₀ on mass redistribution, mass
-/// elimination and the singular dynamic method), as under gravity at the plane.
+/// interface and plane elements' mass in every component and slides off by 1.6e-2 (top) and
+/// 3.6e-2 (bottom), as at the plane (`tests/friction.rs`); the singular dynamic method (P2)
+/// 2.3e-3; Moreau–Jean (θ = ½) on the standard and lumped mass 2.2e-3 and 1.9e-3, and it is
+/// unstable on the spaces with massless normal dofs (`E + W_f` off by 7.8, 1.1e3 and 25 × E₀ on
+/// mass redistribution, mass elimination and the singular dynamic method), as under gravity at
+/// the plane.
 #[test]
 fn every_space_and_friction_scheme_slides_on_the_block() {
     for scheme in ["backward_euler", "newmark", "hht", "moreau_jean"] {
@@ -298,6 +299,29 @@ fn mixed_frictional_and_frictionless_points_are_refused_where_unsupported() {
     })
     .unwrap_err();
     assert!(e.to_string().contains("frictionless"), "{e}");
+}
+
+/// Mass redistribution makes every contact direction massless, the plane's rows under the
+/// bottom block as the interface's (the merged mass model lists the plane's normal dofs too).
+#[test]
+fn mass_redistribution_frees_the_plane_rows_too() {
+    let o = Overrides::default();
+    let case = cases::load(Path::new(CASE_2D), &o).unwrap();
+    let space = dyncontact::space::by_name("mass_redistribution").unwrap();
+    let problem = case.problem(space.as_ref()).unwrap();
+    let massless = problem.inertia.massless();
+    let plane = problem.contact.friction.as_ref().unwrap().frictionless;
+    assert_eq!(plane, 13, "12 faces under the bottom block");
+    for i in 0..problem.contact.len() {
+        let row = problem.contact.row(i);
+        let mut b = vec![0.0; problem.n()];
+        for &(j, v) in &row {
+            b[j] = v;
+        }
+        let mb = problem.inertia.mass_times(&b).unwrap();
+        assert!(mb.iter().all(|x| x.abs() < 1e-14), "row {i}: {row:?}");
+        assert!(row.iter().any(|&(j, _)| massless[j]), "row {i}");
+    }
 }
 
 /// `--friction 0` makes the interface frictionless: no tangential rows, no friction columns.

@@ -35,6 +35,7 @@ use crate::exact::hertz::Hertz;
 use crate::exact::ExactContact;
 use crate::fem::bodies::Bodies;
 use crate::fem::discretisation::{Discretisation, Initial};
+use crate::fem::mass_model::MassModel;
 use crate::problem::Problem;
 use crate::space::Space;
 use serde::Deserialize;
@@ -333,8 +334,8 @@ impl TwoBodies {
 impl TwoBodies {
     /// The nodal rows of body 2 on the rigid plane under it (`x_d` at its lowest node): its faces
     /// facing −e_d in the global frame, with tangential rows when `friction` (frictionless
-    /// there: [`crate::problem::Friction::frictionless`]).
-    fn support(&self, friction: bool) -> Result<crate::problem::Contact> {
+    /// there: [`crate::problem::Friction::frictionless`]); and their normal dofs (body 2's).
+    fn support(&self, friction: bool) -> Result<(crate::problem::Contact, Vec<usize>)> {
         let master = &self.bodies.parts[1];
         let d = master.dim();
         let mut mesh = master.mesh.clone();
@@ -354,7 +355,7 @@ impl TwoBodies {
         if friction {
             contact.friction = Some(fem.friction(0.0)?);
         }
-        Ok(contact)
+        Ok((contact, fem.mass_model().contact_dofs))
     }
 }
 
@@ -423,15 +424,26 @@ impl Case for TwoBodies {
                 }
             })
             .collect();
-        let mut problem = self.bodies.problem(|m| space.inertia(m), &initial)?;
         let mu = self.parts[0].friction;
+        let offset = self.bodies.offset(1);
+        let support = self.plane.then(|| self.support(mu > 0.0)).transpose()?;
+        // The plane's normal dofs are contact dofs too (massless under mass redistribution).
+        let inertia = |m: &MassModel| match &support {
+            None => space.inertia(m),
+            Some((_, dofs)) => {
+                let mut m = m.clone();
+                m.contact_dofs.extend(dofs.iter().map(|d| d + offset));
+                m.contact_dofs.sort_unstable();
+                m.contact_dofs.dedup();
+                space.inertia(&m)
+            }
+        };
+        let mut problem = self.bodies.problem(inertia, &initial)?;
         if mu > 0.0 {
             problem.contact.friction = Some(self.bodies.friction(0, 1, mu)?);
         }
-        if self.plane {
-            problem
-                .contact
-                .append(&self.support(mu > 0.0)?, self.bodies.offset(1))?;
+        if let Some((contact, _)) = &support {
+            problem.contact.append(contact, offset)?;
         }
         Ok(problem)
     }
