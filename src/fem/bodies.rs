@@ -354,13 +354,7 @@ impl Bodies {
         let s = &self.parts[slave];
         let mut translation = vec![0.0; self.n_dofs()];
         self.place(slave, &s.interpolate(|_| [1.0, 0.0, 0.0]), &mut translation);
-        Ok(Friction {
-            mu,
-            b_t: b_t.build()?,
-            tangents,
-            frictionless: 0,
-            translation,
-        })
+        Ok(Friction::new(mu, b_t.build()?, tangents, translation))
     }
 
     /// The semi-discrete problem of the bodies (body 0 the slave, body 1 the master) with the

@@ -415,13 +415,7 @@ impl Discretisation {
                 translation[dof] = 1.0;
             }
         }
-        Ok(Friction {
-            mu,
-            b_t: b_t.build()?,
-            tangents,
-            frictionless: 0,
-            translation,
-        })
+        Ok(Friction::new(mu, b_t.build()?, tangents, translation))
     }
 
     /// Von Mises stress `√(3/2 s:s)` of the displacement `u` at the centroid of every cell

@@ -58,6 +58,20 @@ pub struct Friction {
     pub translation: Vec<f64>,
 }
 
+impl Friction {
+    /// μ on every point of `b_t` (none frictionless), `tangents` per point, the centre of mass's
+    /// tangential velocity along `translation`.
+    pub fn new(mu: f64, b_t: SpMat, tangents: usize, translation: Vec<f64>) -> Self {
+        Self {
+            mu,
+            b_t,
+            tangents,
+            frictionless: 0,
+            translation,
+        }
+    }
+}
+
 /// A quadrature point `x_q` of Γ_C for boundary integrals (Nitsche's method,
 /// [`crate::contact::nitsche`]): `∫_{Γ_C} f ≈ Σ_q w_q f(x_q)`.
 #[derive(Debug, Clone, PartialEq)]
