@@ -16,8 +16,10 @@
 //! is Coulomb's law on the interface rows ([`Bodies::friction`]); each body may carry its own
 //! weight (`geometry.gravity`, along −e_d) and slide along e_1 (`geometry.tangential_velocity`,
 //! in the global frame for both bodies; body 2's are 0 unless `[master.geometry]` gives them).
-//! `cases/slide_on_block2d.toml` presses a block on another by its weight alone: the pair's
-//! rigid-body answer is [`crate::exact::slide::SlideOnBlock`].
+//! `[master] plane = true` sets body 2 on a frictionless rigid plane (its faces facing −e_d,
+//! appended as frictionless points of the law). `cases/slide_on_block2d.toml` (and `3d`) slides
+//! a block on another resting on the plane: the rigid-body answer is
+//! [`crate::exact::slide::SlideOnBlock`].
 //!
 //! **Hertz reference** (Johnson 1985, §4.2): two curved bodies in contact are Hertz's body of
 //! relative curvature `1/R* = 1/R₁ + 1/R₂` (a box: 0), modulus `1/E* = Σ (1 − ν_i²)/E_i` and
@@ -233,15 +235,17 @@ impl TwoBodies {
                 "the interface's μ is body 1's [contact] friction",
             ));
         }
-        let slopes = [Some(&spec.geometry), spec.master.geometry.as_ref()];
-        if let Some(slope) = slopes
+        let slopes = [
+            ("geometry.slope", Some(&spec.geometry)),
+            ("master.geometry.slope", spec.master.geometry.as_ref()),
+        ];
+        if let Some((field, slope)) = slopes
             .into_iter()
-            .flatten()
-            .map(|g| g.slope)
-            .find(|&a| a != 0.0)
+            .filter_map(|(f, g)| Some((f, g?.slope)))
+            .find(|s| s.1 != 0.0)
         {
             return Err(Error::invalid(
-                "geometry.slope",
+                field,
                 slope,
                 "two bodies meet along e_d, without a slope (0)",
             ));
