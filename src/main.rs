@@ -114,7 +114,8 @@ enum Command {
         #[arg(long)]
         cells: Option<String>,
         /// A Gmsh mesh (MSH 4.1) replacing the case's mesh (2D/3D body cases; Γ_C is the
-        /// physical group `contact`, or the case's `[contact] group`).
+        /// physical group `contact`, or the case's `[contact] group`; two_discs/two_spheres:
+        /// both bodies, groups `body1`, `body2`, `contact1`, `contact2`, body 1 the slave).
         #[arg(long)]
         mesh: Option<PathBuf>,
         /// Time step.

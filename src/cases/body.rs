@@ -238,7 +238,7 @@ pub fn size(spec: &BodySpec, o: &Overrides) -> Size {
 }
 
 /// Bytes of a Gmsh file per node, roughly (its node and cell lines), for [`size`].
-const GMSH_BYTES_PER_NODE: f64 = 100.0;
+pub(super) const GMSH_BYTES_PER_NODE: f64 = 100.0;
 
 /// Cells per structured cell (simplices split each box cell).
 fn per_cell(element: &RefElement) -> f64 {
@@ -285,6 +285,24 @@ fn generated_element(cells: &str, dim: usize, degree: usize) -> Result<RefElemen
     Ok(RefElement { shape, dim, degree })
 }
 
+/// Refuses the overrides of a generated mesh (`--elements`, `--cells`, `--degree`) for a mesh
+/// read from `file`, which fixes the cells, their shape and degree.
+pub(super) fn refuse_generated(o: &Overrides, file: &str) -> Result<()> {
+    let generated = [
+        ("--elements", o.elements.map(|n| n.to_string())),
+        ("--cells", o.cells.clone()),
+        ("--degree", o.degree.map(|n| n.to_string())),
+    ];
+    match generated.into_iter().find_map(|(f, v)| Some((f, v?))) {
+        Some((flag, value)) => Err(Error::invalid(
+            flag,
+            value,
+            &format!("applies to a generated mesh, not to the mesh file {file}"),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// The mesh a body's geometry, mesh and contact tables describe (a file when given, else the
 /// generated shape) and the rule that selects Γ_C on it.
 pub(super) fn build_mesh(
@@ -298,22 +316,7 @@ pub(super) fn build_mesh(
         None => FACING,
     };
     if let Some(file) = o.mesh.as_ref().or(spec_mesh.file.as_ref()) {
-        // The file fixes the cells, their shape and degree.
-        let generated = [
-            ("--elements", o.elements.map(|n| n.to_string())),
-            ("--cells", o.cells.clone()),
-            ("--degree", o.degree.map(|n| n.to_string())),
-        ];
-        if let Some((flag, value)) = generated.into_iter().find_map(|(f, v)| Some((f, v?))) {
-            return Err(Error::invalid(
-                flag,
-                value,
-                &format!(
-                    "applies to a generated mesh, not to the mesh file {}",
-                    file.display()
-                ),
-            ));
-        }
+        refuse_generated(o, &file.display().to_string())?;
         let group = contact.group.as_deref().unwrap_or("contact");
         let mesh = crate::mesh::gmsh::read(file, dim, group)?;
         return Ok((mesh, ContactRule::Tagged));
@@ -395,6 +398,11 @@ pub(super) fn build_mesh(
 impl Body {
     /// Validates the spec, applies the overrides and builds the mesh.
     pub fn from_spec(spec: BodySpec, o: &Overrides) -> Result<Self> {
+        Self::with_mesh(spec, o, None)
+    }
+
+    /// As [`Body::from_spec`], on `mesh` (read by the caller, Γ_C tagged) when given.
+    pub fn with_mesh(spec: BodySpec, o: &Overrides, mesh: Option<Mesh>) -> Result<Self> {
         let Some(&(kind, dim)) = KINDS.iter().find(|k| k.0 == spec.case) else {
             return Err(Error::UnknownName {
                 kind: "case",
@@ -419,7 +427,13 @@ impl Body {
             -0.5 * std::f64::consts::PI,
             0.5 * std::f64::consts::PI,
         )?;
-        let (mesh, rule) = build_mesh((g, &spec.mesh, &spec.contact), o, kind, dim)?;
+        let (mesh, rule) = match mesh {
+            Some(mesh) => {
+                refuse_generated(o, &mesh.origin)?;
+                (mesh, ContactRule::Tagged)
+            }
+            None => build_mesh((g, &spec.mesh, &spec.contact), o, kind, dim)?,
+        };
         let hertz = if kind.starts_with("hertz") {
             let radius = g.radius.ok_or_else(|| {
                 Error::invalid(

@@ -501,16 +501,15 @@ impl CaseFile {
             "block2d" | "block3d" | "hertz2d" | "hertz3d" | "disc2d" | "slide2d" | "slide3d"
             | "roll2d" => {
                 let mut spec: body::BodySpec = spec_from_str(&text, path)?;
-                // A mesh file is relative to the case file's directory.
-                if let (Some(f), Some(dir)) = (&spec.mesh.file, path.parent()) {
-                    spec.mesh.file = Some(dir.join(f));
-                }
+                beside(&mut spec.mesh.file, path);
                 Spec::Body(Box::new(spec))
             }
             "spring_mass" => Spec::SpringMass(spec_from_str(&text, path)?),
             "two_bars" => Spec::TwoBars(spec_from_str(&text, path)?),
             "two_discs" | "two_spheres" | "two_blocks2d" | "two_blocks3d" => {
-                Spec::TwoBodies(Box::new(spec_from_str(&text, path)?))
+                let mut spec: two_bodies::TwoBodiesSpec = spec_from_str(&text, path)?;
+                beside(&mut spec.mesh.file, path);
+                Spec::TwoBodies(Box::new(spec))
             }
             other => {
                 return Err(Error::UnknownName {
@@ -562,14 +561,10 @@ impl CaseFile {
     pub fn build(&self, overrides: &Overrides) -> Result<Box<dyn Case>> {
         let o = overrides;
         let (refused, why): (&[&str], &str) = match self.spec {
-            Spec::Body(_) => (&[], ""),
+            Spec::Body(_) | Spec::TwoBodies(_) => (&[], ""),
             Spec::Bar1d(_) | Spec::BarFlight(_) | Spec::TwoBars(_) => (
                 &["--mesh", "--cells", "--friction"],
                 "applies to the 2D/3D body cases only",
-            ),
-            Spec::TwoBodies(_) => (
-                &["--mesh"],
-                "applies to one body: two bodies are generated meshes",
             ),
             Spec::SpringMass(_) => (
                 &["--mesh", "--cells", "--elements", "--degree", "--friction"],
@@ -605,6 +600,13 @@ impl CaseFile {
                 Box::new(two_bodies::TwoBodies::from_spec(*s.clone(), overrides)?)
             }
         })
+    }
+}
+
+/// A mesh file named in the case file at `path` is relative to the case file's directory.
+fn beside(file: &mut Option<PathBuf>, path: &Path) {
+    if let (Some(f), Some(dir)) = (file.as_ref(), path.parent()) {
+        *file = Some(dir.join(f));
     }
 }
 

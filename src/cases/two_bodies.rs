@@ -9,6 +9,15 @@
 //! down by a rotation of π (2D: `(x, y) ↦ (−x, −y)`; 3D: `(x, y, z) ↦ (x, −y, −z)`, which keeps
 //! the cells' orientation); it moves towards body 1 at `|velocity|` of its own table (default:
 //! body 1's, the equal and opposite velocities ±v/2 of a pair in its centre-of-mass frame).
+//!
+//! **Gmsh input** (`[mesh] file`, or `--mesh` on `two_discs.toml` / `two_spheres.toml`): one
+//! MSH 4.1 file holds both bodies where they are, the line of impact the x_d axis: physical
+//! groups `body1` (the slave's cells, above), `body2` (the master's, below), `contact1` and
+//! `contact2` (the faces of each body's potential contact zone Γ_C); the meshes need not match
+//! across the interface. Geometry and material stay the case file's (the radius is Hertz's);
+//! each body alone against the plane is its mesh moved onto `x_d = 0` (body 2 turned). Example
+//! meshes with their `.geo`: `cases/meshes/two_discs.*`, `cases/meshes/two_spheres.*`.
+//!
 //! The slave's Γ_C vertices are paired node-to-segment on the master's Γ_C faces
 //! ([`crate::fem::bodies`]); no external force, so the momentum `(M̃ 1_d)ᵀ V` is an invariant.
 //!
@@ -38,9 +47,15 @@ use crate::exact::ExactContact;
 use crate::fem::bodies::Bodies;
 use crate::fem::discretisation::{Discretisation, Initial};
 use crate::fem::mass_model::MassModel;
+use crate::mesh::Mesh;
 use crate::problem::Problem;
 use crate::space::Space;
 use serde::Deserialize;
+
+/// The Gmsh physical groups of the bodies' cells: body 1 (the slave), body 2 (the master).
+pub const BODY_GROUPS: [&str; 2] = ["body1", "body2"];
+/// The Gmsh physical groups of the bodies' potential contact zones Γ_C (faces).
+pub const CONTACT_GROUPS: [&str; 2] = ["contact1", "contact2"];
 
 /// Case kinds of this module with their dimension.
 pub const KINDS: &[(&str, usize)] = &[
@@ -51,18 +66,27 @@ pub const KINDS: &[(&str, usize)] = &[
 ];
 
 /// The estimated [`Size`] of a pair, for the scheduler: twice body 1's generated mesh (body 2
-/// is its image unless `[master]` gives another, which this estimate ignores).
+/// is its image unless `[master]` gives another, which this estimate ignores), or the Gmsh
+/// file's length (both bodies).
 pub fn size(spec: &TwoBodiesSpec, o: &Overrides) -> Size {
     let dim = KINDS.iter().find(|k| k.0 == spec.case).map_or(3, |k| k.1);
-    let nodes = super::body::generated_nodes(
-        &spec.geometry,
-        dim,
-        o.elements.unwrap_or(spec.mesh.elements),
-        o.degree.unwrap_or(spec.mesh.degree),
-    );
+    let nodes = match o.mesh.as_ref().or(spec.mesh.file.as_ref()) {
+        Some(file) => {
+            std::fs::metadata(file).map_or(0.0, |m| m.len() as f64)
+                / super::body::GMSH_BYTES_PER_NODE
+        }
+        None => {
+            2.0 * super::body::generated_nodes(
+                &spec.geometry,
+                dim,
+                o.elements.unwrap_or(spec.mesh.elements),
+                o.degree.unwrap_or(spec.mesh.degree),
+            )
+        }
+    };
     Size {
         dim,
-        dofs: 2.0 * nodes * dim as f64,
+        dofs: nodes * dim as f64,
     }
 }
 
@@ -162,6 +186,71 @@ fn moved(
     fem
 }
 
+/// The two bodies of the Gmsh file of the case (`mesh.file` or `--mesh`), if any: the cells of
+/// the physical groups `body1` (the slave) and `body2` (the master) with Γ_C the groups
+/// `contact1` and `contact2`, and the shifts that put each on `x_d = 0` in its own frame (body
+/// 1: `x − b₁ e_d`, b₁ its lowest x_d; body 2, turned: `turn(x − t₂ e_d)`, t₂ its highest).
+#[allow(clippy::type_complexity)]
+fn gmsh_bodies(
+    spec: &TwoBodiesSpec,
+    o: &Overrides,
+    dim: usize,
+) -> Result<Option<([Mesh; 2], [[f64; 3]; 2])>> {
+    let m = &spec.master;
+    if m.mesh.as_ref().is_some_and(|m| m.file.is_some()) {
+        return Err(Error::invalid(
+            "master.mesh.file",
+            "a Gmsh file",
+            "both bodies come from the one file of `mesh.file` (or --mesh), physical groups \
+             body1, body2, contact1, contact2",
+        ));
+    }
+    let Some(file) = o.mesh.as_ref().or(spec.mesh.file.as_ref()) else {
+        return Ok(None);
+    };
+    let groups = [Some(&spec.contact), m.contact.as_ref()]
+        .into_iter()
+        .flatten()
+        .find_map(|c| c.group.as_ref());
+    if let Some(group) = groups {
+        return Err(Error::invalid(
+            "contact.group",
+            group,
+            "a two-body Gmsh file names its groups body1, body2, contact1 (the slave's Γ_C), \
+             contact2 (the master's)",
+        ));
+    }
+    let meshes = crate::mesh::gmsh::read_bodies(
+        file,
+        dim,
+        &[
+            (BODY_GROUPS[0], CONTACT_GROUPS[0]),
+            (BODY_GROUPS[1], CONTACT_GROUPS[1]),
+        ],
+    )?;
+    let extreme = |mesh: &Mesh, pick: fn(f64, f64) -> f64, start: f64| {
+        let mut s = [0.0; 3];
+        s[dim - 1] = mesh.nodes.iter().map(|x| x[dim - 1]).fold(start, pick);
+        s
+    };
+    let shifts = [
+        extreme(&meshes[0], f64::min, f64::INFINITY),
+        extreme(&meshes[1], f64::max, f64::NEG_INFINITY),
+    ];
+    let [m1, m2]: [Mesh; 2] = meshes
+        .try_into()
+        .map_err(|_| Error::Internal("two bodies read".into()))?;
+    Ok(Some(([m1, m2], shifts)))
+}
+
+/// A mesh moved rigidly: each node `x ↦ map(x − shift)`.
+fn placed(mut mesh: Mesh, map: impl Fn([f64; 3]) -> [f64; 3], shift: [f64; 3]) -> Mesh {
+    for x in &mut mesh.nodes {
+        *x = map(std::array::from_fn(|k| x[k] - shift[k]));
+    }
+    mesh
+}
+
 /// The shift that centres a box's tangential extent on the line of impact (0 for round bodies,
 /// generated centred).
 fn centring(fem: &Discretisation, shape: &str) -> [f64; 3] {
@@ -221,13 +310,7 @@ impl TwoBodies {
                 known: KINDS.iter().map(|k| k.0).collect::<Vec<_>>().join(", "),
             });
         };
-        if spec.mesh.file.is_some() || spec.master.mesh.as_ref().is_some_and(|m| m.file.is_some()) {
-            return Err(Error::invalid(
-                "mesh.file",
-                "a Gmsh file",
-                "two bodies are generated meshes (no Gmsh input with two volumes yet)",
-            ));
-        }
+        let meshes = gmsh_bodies(&spec, o, dim)?;
         if let Some(mu) = spec.master.contact.as_ref().and_then(|c| c.friction) {
             return Err(Error::invalid(
                 "master.contact.friction",
@@ -258,7 +341,7 @@ impl TwoBodies {
             gravity: 0.0,
             ..spec.geometry.clone()
         });
-        let part = |material: Material, geometry: Geometry, mesh, contact| {
+        let part = |material: Material, geometry: Geometry, mesh, contact, read| {
             let round = geometry.shape != "box";
             let case = match (round, dim) {
                 (true, 2) => "hertz2d",
@@ -277,7 +360,15 @@ impl TwoBodies {
                 sweep: Vec::new(),
                 history: Vec::new(),
             };
-            Body::from_spec(body, o)
+            Body::with_mesh(body, o, read)
+        };
+        // Each body in its own frame, resting on x_d = 0 from above (a file's bodies placed so).
+        let [read1, read2] = match &meshes {
+            Some(([m1, m2], [s1, s2])) => [
+                Some(placed(m1.clone(), |x| x, *s1)),
+                Some(placed(m2.clone(), |x| turn(x, dim), *s2)),
+            ],
+            None => [None, None],
         };
         let parts = [
             part(
@@ -285,12 +376,14 @@ impl TwoBodies {
                 spec.geometry.clone(),
                 spec.mesh.clone(),
                 spec.contact.clone(),
+                read1,
             )?,
             part(
                 material2.clone(),
                 geometry2,
                 m.mesh.clone().unwrap_or_else(|| spec.mesh.clone()),
                 m.contact.clone().unwrap_or_else(|| spec.contact.clone()),
+                read2,
             )?,
         ];
         for (p, field) in parts
@@ -305,17 +398,18 @@ impl TwoBodies {
                 ));
             }
         }
-        let mut lift = [0.0; 3];
-        lift[dim - 1] = spec.geometry.lift;
-        let slave = moved(
-            parts[0].fem.clone(),
-            |x| x,
-            centring(&parts[0].fem, &parts[0].geometry.shape),
-        );
-        let mut shift = centring(&parts[1].fem, &parts[1].geometry.shape);
-        shift = turn(shift, dim);
-        let master = moved(parts[1].fem.clone(), |x| turn(x, dim), shift);
-        let slave = moved(slave, |x| x, lift);
+        // Back to the global frame: body 1 (the slave) `x + s₁`, body 2 turned, `turn(x) + s₂`
+        // (a file's: `s₁ = b₁ e_d`, `s₂ = t₂ e_d`, undoing [`gmsh_bodies`]' placement).
+        let [mut s1, s2] = match &meshes {
+            Some((_, shifts)) => *shifts,
+            None => [
+                centring(&parts[0].fem, &parts[0].geometry.shape),
+                turn(centring(&parts[1].fem, &parts[1].geometry.shape), dim),
+            ],
+        };
+        s1[dim - 1] += spec.geometry.lift;
+        let slave = moved(parts[0].fem.clone(), |x| x, s1);
+        let master = moved(parts[1].fem.clone(), |x| turn(x, dim), s2);
         let bodies = Bodies::new(vec![slave, master])?;
         let hertz = pair_hertz(&parts, dim, [&spec.material, &material2]);
         let impact = hertz.map(|h| pair_impact(&parts, &bodies, h)).transpose()?;

@@ -8,6 +8,10 @@
 //!   which holds for any reasonably shaped cell and does not depend on Gmsh's edge numbering.
 //! - Γ_C: the elements of dimension d − 1 on the entities of the physical group named `group`
 //!   (the `$PhysicalNames` section, which `mshio` does not read, is parsed here).
+//! - Several bodies in one file ([`read_bodies`], the two-body cases): each body is the cells
+//!   of the entities of its physical group of dimension d (`body1`, `body2`) with its own Γ_C
+//!   group (`contact1`, `contact2`), and its own nodes (the meshes need not match across the
+//!   interface).
 //! - Nodes used by no cell (geometry points) are dropped. Node tags are taken in file order from
 //!   the smallest tag when they are dense (Gmsh's numbering), else from the tags themselves.
 //!
@@ -20,185 +24,253 @@ use mshio::ElementType;
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Reads the Gmsh file at `path` as a mesh of dimension `dim` whose Γ_C is the physical group
-/// `group`.
+/// Reads the Gmsh file at `path` as a mesh of dimension `dim` (every cell of dimension `dim`)
+/// whose Γ_C is the physical group `group`.
 pub fn read(path: &Path, dim: usize, group: &str) -> Result<Mesh> {
-    let origin = path.display().to_string();
-    let err = |m: String| Error::Mesh {
-        origin: origin.clone(),
-        message: m,
-    };
-    let bytes = crate::input::MESH_FILE.read(path)?;
-    check_version(&bytes).map_err(&err)?;
-    let msh = mshio::parse_msh_bytes(bytes.as_slice())
-        .map_err(|e| err(format!("not a readable MSH 4.1 file: {e}")))?;
-    let data = &msh.data;
-    let (coords, tag_index) = nodes(data).map_err(&err)?;
-    let elements = data
-        .elements
-        .as_ref()
-        .ok_or_else(|| err("no $Elements section".into()))?;
-    let index = |tag: u64| -> std::result::Result<usize, String> {
-        tag_index(tag).ok_or_else(|| format!("element refers to unknown node {tag}"))
-    };
-    if let Some(top) = elements
-        .element_blocks
+    File::open(path, dim)?.mesh(None, group)
+}
+
+/// Reads the Gmsh file at `path` holding several bodies: for each `(cells, contact)` pair of
+/// physical group names, the body made of the cells of dimension `dim` of the group `cells`
+/// (its own nodes, numbered from 0) whose Γ_C is the group `contact` (faces on that body's
+/// cells). Bodies may touch or overlap in the file: each keeps its own copy of shared nodes.
+pub fn read_bodies(path: &Path, dim: usize, groups: &[(&str, &str)]) -> Result<Vec<Mesh>> {
+    let file = File::open(path, dim)?;
+    groups
         .iter()
-        .map(|b| b.entity_dim as usize)
-        .max()
-    {
-        if top != dim {
-            return Err(err(format!(
-                "the mesh's cells are {top}-dimensional: a {top}D mesh given to a {dim}D case"
-            )));
-        }
-    }
-    if dim == 2 {
-        if let Some(i) = coords.iter().position(|x| x[2] != 0.0) {
-            return Err(err(format!(
-                "node {i} of a 2D mesh has z = {} ≠ 0",
-                coords[i][2]
-            )));
-        }
-    }
-    // Cells: the blocks of dimension `dim`, one family.
-    let mut element: Option<(RefElement, ElementType)> = None;
-    let mut cells: Vec<Vec<usize>> = Vec::new();
-    for block in elements
-        .element_blocks
-        .iter()
-        .filter(|b| b.entity_dim as usize == dim)
-    {
-        let el = family(block.element_type, dim).ok_or_else(|| {
-            err(format!(
-                "unsupported element type {:?} in the cells of entity {} (supported: \
-                 Tri3/Tri6/Qua4/Qua9 in 2D, Tet4/Tet10/Hex8/Hex27 in 3D)",
-                block.element_type, block.entity_tag
-            ))
-        })?;
-        match element {
-            Some((e, t)) if e != el => {
-                return Err(err(format!(
-                    "mixed cell types {t:?} and {:?}: one element family per mesh",
-                    block.element_type
-                )))
-            }
-            _ => element = Some((el, block.element_type)),
-        }
-        for e in &block.elements {
-            let gm: Vec<usize> = e
-                .nodes
-                .iter()
-                .map(|&t| index(t))
-                .collect::<std::result::Result<_, _>>()
-                .map_err(&err)?;
-            cells.push(
-                reorder(&el, &gm, &coords)
-                    .map_err(|m| err(format!("element {}: {m}", e.element_tag)))?,
-            );
-        }
-    }
-    let Some((element, _)) = element else {
-        let dims: Vec<i32> = elements
+        .map(|&(cells, contact)| file.mesh(Some(cells), contact))
+        .collect()
+}
+
+/// A parsed Gmsh file: its text, its mesh data, its node coordinates and physical names.
+struct File {
+    origin: String,
+    dim: usize,
+    msh: mshio::MshFile<u64, i32, f64>,
+    coords: Vec<[f64; 3]>,
+    tag_index: Box<dyn Fn(u64) -> Option<usize>>,
+    names: Vec<(usize, i32, String)>,
+}
+
+impl File {
+    /// Reads and checks the file (version, sections, dimension of the cells).
+    fn open(path: &Path, dim: usize) -> Result<Self> {
+        let origin = path.display().to_string();
+        let err = |m: String| Error::Mesh {
+            origin: origin.clone(),
+            message: m,
+        };
+        let bytes = crate::input::MESH_FILE.read(path)?;
+        check_version(&bytes).map_err(&err)?;
+        let msh = mshio::parse_msh_bytes(bytes.as_slice())
+            .map_err(|e| err(format!("not a readable MSH 4.1 file: {e}")))?;
+        let (coords, tag_index) = nodes(&msh.data).map_err(&err)?;
+        let elements = msh
+            .data
+            .elements
+            .as_ref()
+            .ok_or_else(|| err("no $Elements section".into()))?;
+        if let Some(top) = elements
             .element_blocks
             .iter()
-            .map(|b| b.entity_dim)
-            .collect();
-        return Err(err(format!(
-            "no {dim}-dimensional cell (element blocks of dimensions {dims:?}: a {}D mesh given \
-             to a {dim}D case?)",
-            dims.iter().max().copied().unwrap_or(0)
-        )));
-    };
-    // Γ_C: faces on the entities of the physical group.
-    let names = physical_names(&bytes);
-    let Some(ptag) = names
-        .iter()
-        .find(|(d, _, n)| *d == dim - 1 && n == group)
-        .map(|(_, t, _)| *t)
-    else {
-        let known: Vec<String> = names
-            .iter()
-            .map(|(d, _, n)| format!("`{n}` (dim {d})"))
-            .collect();
-        return Err(err(format!(
-            "no physical group `{group}` of dimension {} (groups: {})",
-            dim - 1,
-            if known.is_empty() {
-                "none".into()
-            } else {
-                known.join(", ")
-            }
-        )));
-    };
-    let entities = contact_entities(data, dim - 1, ptag);
-    let n_vert = if dim == 2 {
-        2
-    } else if element.shape == Shape::Simplex {
-        3
-    } else {
-        4
-    };
-    let mut faces = Vec::new();
-    for block in elements
-        .element_blocks
-        .iter()
-        .filter(|b| b.entity_dim as usize == dim - 1 && entities.contains(&b.entity_tag))
-    {
-        for e in &block.elements {
-            let f: Vec<usize> = e.nodes[..n_vert.min(e.nodes.len())]
-                .iter()
-                .map(|&t| index(t))
-                .collect::<std::result::Result<_, _>>()
-                .map_err(&err)?;
-            faces.push(f);
-        }
-    }
-    if faces.is_empty() {
-        return Err(err(format!(
-            "physical group `{group}` has no element of dimension {}",
-            dim - 1
-        )));
-    }
-    // Keep the nodes of the cells only, in file order.
-    let mut used = vec![usize::MAX; coords.len()];
-    let mut nodes = Vec::new();
-    for c in &mut cells {
-        for i in c.iter_mut() {
-            if used[*i] == usize::MAX {
-                used[*i] = nodes.len();
-                nodes.push(coords[*i]);
-            }
-            *i = used[*i];
-        }
-    }
-    for f in &mut faces {
-        for i in f.iter_mut() {
-            if used[*i] == usize::MAX {
+            .map(|b| b.entity_dim as usize)
+            .max()
+        {
+            if top != dim {
                 return Err(err(format!(
-                    "a face of group `{group}` has node {} on no cell",
-                    *i
+                    "the mesh's cells are {top}-dimensional: a {top}D mesh given to a {dim}D case"
                 )));
             }
-            *i = used[*i];
         }
-    }
-    let h = faces
-        .iter()
-        .map(|f| {
-            let (a, b) = (nodes[f[0]], nodes[f[1]]);
-            (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt()
+        if dim == 2 {
+            if let Some(i) = coords.iter().position(|x| x[2] != 0.0) {
+                return Err(err(format!(
+                    "node {i} of a 2D mesh has z = {} ≠ 0",
+                    coords[i][2]
+                )));
+            }
+        }
+        let names = physical_names(&bytes);
+        Ok(Self {
+            origin,
+            dim,
+            msh,
+            coords,
+            tag_index,
+            names,
         })
-        .sum::<f64>()
-        / faces.len() as f64;
-    Ok(Mesh {
-        origin,
-        element,
-        nodes,
-        connectivity: cells,
-        h,
-        contact_faces: Some(faces),
-    })
+    }
+
+    /// The tag of the physical group `name` of dimension `dim`, or an error listing the groups.
+    fn group(&self, name: &str, dim: usize) -> std::result::Result<i32, String> {
+        self.names
+            .iter()
+            .find(|(d, _, n)| *d == dim && n == name)
+            .map(|(_, t, _)| *t)
+            .ok_or_else(|| {
+                let known: Vec<String> = self
+                    .names
+                    .iter()
+                    .map(|(d, _, n)| format!("`{n}` (dim {d})"))
+                    .collect();
+                format!(
+                    "no physical group `{name}` of dimension {dim} (groups: {})",
+                    if known.is_empty() {
+                        "none".into()
+                    } else {
+                        known.join(", ")
+                    }
+                )
+            })
+    }
+
+    /// The mesh of the cells of the physical group `cells` (every cell when None) with Γ_C the
+    /// physical group `group`.
+    fn mesh(&self, cells_group: Option<&str>, group: &str) -> Result<Mesh> {
+        self.build(cells_group, group)
+            .map_err(|message| Error::Mesh {
+                origin: self.origin.clone(),
+                message,
+            })
+    }
+
+    fn build(&self, cells_group: Option<&str>, group: &str) -> std::result::Result<Mesh, String> {
+        let (dim, coords, data) = (self.dim, &self.coords, &self.msh.data);
+        let elements = data.elements.as_ref().ok_or("no $Elements section")?;
+        let index = |tag: u64| -> std::result::Result<usize, String> {
+            (self.tag_index)(tag).ok_or_else(|| format!("element refers to unknown node {tag}"))
+        };
+        let body = match cells_group {
+            Some(name) => Some(entities(data, dim, self.group(name, dim)?)),
+            None => None,
+        };
+        let of_body = |tag: i32| body.as_ref().map_or(true, |e| e.contains(&tag));
+        // Cells: the blocks of dimension `dim` (of the body's entities), one family.
+        let mut element: Option<(RefElement, ElementType)> = None;
+        let mut cells: Vec<Vec<usize>> = Vec::new();
+        for block in elements
+            .element_blocks
+            .iter()
+            .filter(|b| b.entity_dim as usize == dim && of_body(b.entity_tag))
+        {
+            let el = family(block.element_type, dim).ok_or_else(|| {
+                format!(
+                    "unsupported element type {:?} in the cells of entity {} (supported: \
+                     Tri3/Tri6/Qua4/Qua9 in 2D, Tet4/Tet10/Hex8/Hex27 in 3D)",
+                    block.element_type, block.entity_tag
+                )
+            })?;
+            match element {
+                Some((e, t)) if e != el => {
+                    return Err(format!(
+                        "mixed cell types {t:?} and {:?}: one element family per mesh",
+                        block.element_type
+                    ))
+                }
+                _ => element = Some((el, block.element_type)),
+            }
+            for e in &block.elements {
+                let gm: Vec<usize> = e
+                    .nodes
+                    .iter()
+                    .map(|&t| index(t))
+                    .collect::<std::result::Result<_, _>>()?;
+                cells.push(
+                    reorder(&el, &gm, coords)
+                        .map_err(|m| format!("element {}: {m}", e.element_tag))?,
+                );
+            }
+        }
+        let Some((element, _)) = element else {
+            if let Some(name) = cells_group {
+                return Err(format!(
+                    "physical group `{name}` has no element of dimension {dim}"
+                ));
+            }
+            let dims: Vec<i32> = elements
+                .element_blocks
+                .iter()
+                .map(|b| b.entity_dim)
+                .collect();
+            return Err(format!(
+                "no {dim}-dimensional cell (element blocks of dimensions {dims:?}: a {}D mesh \
+                 given to a {dim}D case?)",
+                dims.iter().max().copied().unwrap_or(0)
+            ));
+        };
+        // Γ_C: faces on the entities of the physical group.
+        let on_contact = entities(data, dim - 1, self.group(group, dim - 1)?);
+        let n_vert = if dim == 2 {
+            2
+        } else if element.shape == Shape::Simplex {
+            3
+        } else {
+            4
+        };
+        let mut faces = Vec::new();
+        for block in elements
+            .element_blocks
+            .iter()
+            .filter(|b| b.entity_dim as usize == dim - 1 && on_contact.contains(&b.entity_tag))
+        {
+            for e in &block.elements {
+                let f: Vec<usize> = e.nodes[..n_vert.min(e.nodes.len())]
+                    .iter()
+                    .map(|&t| index(t))
+                    .collect::<std::result::Result<_, _>>()?;
+                faces.push(f);
+            }
+        }
+        if faces.is_empty() {
+            return Err(format!(
+                "physical group `{group}` has no element of dimension {}",
+                dim - 1
+            ));
+        }
+        // Keep the nodes of the cells only, in file order.
+        let mut used = vec![usize::MAX; coords.len()];
+        let mut nodes = Vec::new();
+        for c in &mut cells {
+            for i in c.iter_mut() {
+                if used[*i] == usize::MAX {
+                    used[*i] = nodes.len();
+                    nodes.push(coords[*i]);
+                }
+                *i = used[*i];
+            }
+        }
+        for f in &mut faces {
+            for i in f.iter_mut() {
+                if used[*i] == usize::MAX {
+                    return Err(format!(
+                        "a face of group `{group}` has node {} on no cell{}",
+                        *i,
+                        cells_group.map_or(String::new(), |b| format!(" of `{b}`"))
+                    ));
+                }
+                *i = used[*i];
+            }
+        }
+        let h = faces
+            .iter()
+            .map(|f| {
+                let (a, b) = (nodes[f[0]], nodes[f[1]]);
+                (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt()
+            })
+            .sum::<f64>()
+            / faces.len() as f64;
+        Ok(Mesh {
+            origin: match cells_group {
+                Some(name) => format!("{} (`{name}`)", self.origin),
+                None => self.origin.clone(),
+            },
+            element,
+            nodes,
+            connectivity: cells,
+            h,
+            contact_faces: Some(faces),
+        })
+    }
 }
 
 /// Refuses files that are not MSH 4.x with a message naming the version found.
@@ -323,7 +395,7 @@ fn physical_names(bytes: &[u8]) -> Vec<(usize, i32, String)> {
 }
 
 /// Tags of the entities of dimension `dim` carrying the physical tag `ptag`.
-fn contact_entities(data: &mshio::MshData<u64, i32, f64>, dim: usize, ptag: i32) -> Vec<i32> {
+fn entities(data: &mshio::MshData<u64, i32, f64>, dim: usize, ptag: i32) -> Vec<i32> {
     let Some(e) = &data.entities else {
         return Vec::new();
     };
@@ -339,10 +411,15 @@ fn contact_entities(data: &mshio::MshData<u64, i32, f64>, dim: usize, ptag: i32)
             .iter()
             .filter_map(|c| pick(c.tag, &c.physical_tags))
             .collect(),
-        _ => e
+        2 => e
             .surfaces
             .iter()
             .filter_map(|s| pick(s.tag, &s.physical_tags))
+            .collect(),
+        _ => e
+            .volumes
+            .iter()
+            .filter_map(|v| pick(v.tag, &v.physical_tags))
             .collect(),
     }
 }
