@@ -133,7 +133,7 @@ enum Command {
         out: PathBuf,
         /// Write the fields (displacement, velocity, von Mises stress, contact pressure) for
         /// ParaView into DIR: `<case>_<sample>.vtu` files and their `<case>.pvd` collection
-        /// (2D/3D body cases).
+        /// (2D/3D body cases; two_discs/two_spheres: both bodies in one grid, cell array `body`).
         #[arg(long, value_name = "DIR")]
         vtu: Option<PathBuf>,
         /// With --vtu, write every K-th sample (the initial state included).

@@ -111,3 +111,100 @@ fn singular_dynamic_velocity_is_interpolated_at_every_node() {
         );
     }
 }
+
+/// Two discs (`two_discs`, coarse pair) through their impact, a file every 25 steps: one grid
+/// holds both bodies (the slave's points then the master's, the cell array `body` 1 then 2);
+/// the contact pressure integrated over each body's Γ_C is the run's total contact force (the
+/// slave's rows and the master's reaction spread by its shape functions), to round-off; the
+/// slave's probe displacement is `u_contact`; at t = 0 the slave's nodes move at −0.01 along y
+/// and the master's at +0.01; von Mises is zero at rest and positive under load.
+#[test]
+fn both_bodies_read_back_in_one_grid() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = Overrides {
+        elements: Some(12),
+        t_end: Some(4.0),
+        ..Default::default()
+    };
+    let c = case("cases/two_discs.toml", o);
+    let every = 25;
+    let out = FieldOutput {
+        dir: dir.path().to_path_buf(),
+        every,
+    };
+    let r = run_with_output(c.as_ref(), false, Some(&out)).unwrap();
+    let parts = &c.multi_body().unwrap().parts;
+    let (slave, master) = (&parts[0], &parts[1]);
+    let (n1, n2) = (slave.mesh.nodes.len(), master.mesh.nodes.len());
+    let space = dyncontact::space::by_name(&c.run().space).unwrap();
+    let probe = c.problem(space.as_ref()).unwrap().probe;
+    let scale = r.rows.iter().map(|r| r.force_contact).fold(0.0, f64::max);
+    let mut loaded = 0;
+    for (index, row) in r.rows.iter().enumerate().step_by(every) {
+        let path = dir.path().join(format!("two_discs_{index:06}.vtu"));
+        let body = read_array(&path, "body").unwrap();
+        let cells = [slave, master].map(|b| b.mesh.connectivity.len());
+        assert_eq!(body.len(), cells[0] + cells[1]);
+        assert!(body[..cells[0]].iter().all(|&b| b == 1.0));
+        assert!(body[cells[0]..].iter().all(|&b| b == 2.0));
+        let pressure = read_array(&path, "contact_pressure").unwrap();
+        assert_eq!(pressure.len(), n1 + n2);
+        for (fem, first) in [(slave, 0), (master, n1)] {
+            let force: f64 = fem
+                .contact_vertices
+                .iter()
+                .map(|&(i, area)| pressure[first + i] * area)
+                .sum();
+            assert!(
+                (force - row.force_contact).abs() <= 1e-12 * scale,
+                "{index}: Σ p |Γ_C| = {force:e} on body {}, force_contact {:e}",
+                1 + first / n1.max(1),
+                row.force_contact
+            );
+        }
+        let u = read_array(&path, "displacement").unwrap();
+        assert_eq!(u[3 * (probe.u_dof / 2) + 1], row.u_contact, "{index}");
+        let von_mises = read_array(&path, "von_mises").unwrap();
+        let max = von_mises.iter().copied().fold(0.0, f64::max);
+        if index == 0 {
+            assert_eq!(max, 0.0, "stress at rest");
+            let v = read_array(&path, "velocity").unwrap();
+            assert!(v[..3 * n1].chunks(3).all(|x| x[1] == -0.01));
+            assert!(v[3 * n1..].chunks(3).all(|x| x[1] == 0.01));
+        } else if row.force_contact > 0.0 {
+            assert!(max > 0.0, "{index}: no stress under load");
+            loaded += 1;
+        }
+    }
+    assert!(loaded >= 4, "{loaded} files under load");
+}
+
+/// The singular dynamic method on both discs (Q2 displacement, Q1 velocity): each body's H_h
+/// velocity is its own block of the run's, interpolated at every node of its Q2 mesh: ∓0.01
+/// along y on the slave's and the master's nodes, before contact.
+#[test]
+fn both_bodies_velocity_from_their_own_h_h() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = Overrides {
+        elements: Some(4),
+        degree: Some(2),
+        space: Some("singular_dynamic".into()),
+        t_end: Some(0.04),
+        ..Default::default()
+    };
+    let c = case("cases/two_discs.toml", o);
+    let out = FieldOutput {
+        dir: dir.path().to_path_buf(),
+        every: 1,
+    };
+    run_with_output(c.as_ref(), false, Some(&out)).unwrap();
+    let n1 = c.multi_body().unwrap().parts[0].mesh.nodes.len();
+    let v = read_array(&dir.path().join("two_discs_000000.vtu"), "velocity").unwrap();
+    for (i, x) in v.chunks(3).enumerate() {
+        let want = if i < n1 { -0.01 } else { 0.01 };
+        assert!(
+            x[0].abs() < 1e-15 && (x[1] - want).abs() < 1e-15,
+            "node {i}: {x:?}"
+        );
+    }
+}

@@ -75,6 +75,10 @@ pub trait Case: Send + Sync {
     fn slide(&self) -> Option<crate::exact::slide::Slide> {
         None
     }
+    /// The bodies of a multi-body case in the global frame (field output writes them all).
+    fn multi_body(&self) -> Option<&crate::fem::bodies::Bodies> {
+        None
+    }
     /// Each body of a multi-body case alone against the rigid plane, in its own frame (empty
     /// for a single body): the finite-body reference of a pair adds theirs.
     fn bodies(&self) -> Vec<&dyn Case> {

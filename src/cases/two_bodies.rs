@@ -583,6 +583,10 @@ impl Case for TwoBodies {
             .then(|| self.bodies.translation())
     }
 
+    fn multi_body(&self) -> Option<&Bodies> {
+        Some(&self.bodies)
+    }
+
     fn bodies(&self) -> Vec<&dyn Case> {
         self.parts.iter().map(|p| p as &dyn Case).collect()
     }

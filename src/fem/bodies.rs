@@ -77,6 +77,20 @@ pub struct Pairing {
     pub tangential: Vec<Vec<(usize, f64)>>,
     /// g₀.
     pub g0: f64,
+    /// The master face's vertices (node indices of the master) and their shape functions N_k
+    /// at the projection.
+    pub master: Vec<(usize, f64)>,
+}
+
+/// One body's part of a run's state, for field output ([`Bodies::split`]).
+#[derive(Debug, Clone)]
+pub struct BodyFields {
+    /// Its block of U.
+    pub u: Vec<f64>,
+    /// Its block of V (in V_h, or in H_h for the singular dynamic method).
+    pub v: Vec<f64>,
+    /// The contact force on each of its Γ_C vertices ([`Discretisation::contact_vertices`]).
+    pub lambda: Vec<f64>,
 }
 
 impl Bodies {
@@ -271,11 +285,13 @@ impl Bodies {
                 .into_iter()
                 .map(|t| along(t.map(|x| -x)))
                 .collect();
+            let master = face.vertices.iter().copied().zip(shape.iter().copied());
             out.push(Pairing {
                 slave: r,
                 row: along(normal),
                 tangential,
                 g0,
+                master: master.collect(),
             });
         }
         if out.is_empty() {
@@ -285,6 +301,65 @@ impl Bodies {
             });
         }
         Ok(out)
+    }
+
+    /// The force of each contact row of [`Bodies::interface`]`(0, 1)` carried to each body's Γ_C
+    /// vertices, as `(row, vertex, weight)` per body: λ_r on the row's slave vertex (weight 1),
+    /// `N_k λ_r` on the vertices k of its master face (the reaction, equal and opposite, spread
+    /// by the master's shape functions at the projection; `Σ_k N_k = 1`).
+    pub fn vertex_shares(&self) -> Result<Vec<Vec<(usize, usize, f64)>>> {
+        let m = &self.parts[1];
+        let mut of_node = vec![None; m.mesh.nodes.len()];
+        for (r, &(i, _)) in m.contact_vertices.iter().enumerate() {
+            of_node[i] = Some(r);
+        }
+        let pairs = self.pairings(0, 1)?;
+        let of_node = &of_node;
+        let slave = pairs.iter().enumerate().map(|(r, p)| (r, p.slave, 1.0));
+        let master = pairs.iter().enumerate().flat_map(|(r, p)| {
+            p.master
+                .iter()
+                .filter_map(move |&(k, n)| Some((r, of_node[k]?, n)))
+        });
+        Ok(vec![slave.collect(), master.collect()])
+    }
+
+    /// Each body's part of a run's state (U, V, the rows' contact forces λ), with the rows'
+    /// `shares` of [`Bodies::vertex_shares`]. V is in V_h (the length of U) or in the singular
+    /// dynamic method's H_h, each body's vertices in turn.
+    pub fn split(
+        &self,
+        shares: &[Vec<(usize, usize, f64)>],
+        u: &[f64],
+        v: &[f64],
+        lambda: &[f64],
+    ) -> Vec<BodyFields> {
+        let d = self.dim();
+        let mut w0 = 0;
+        self.parts
+            .iter()
+            .zip(&self.offsets)
+            .zip(shares)
+            .map(|((p, &o), share)| {
+                let n = p.n_dofs();
+                let nw = if v.len() == self.n_dofs() {
+                    n
+                } else {
+                    p.vertex_count() * d
+                };
+                let mut forces = vec![0.0; p.contact_vertices.len()];
+                for &(r, i, w) in share {
+                    forces[i] += w * lambda[r];
+                }
+                let fields = BodyFields {
+                    u: u[o..o + n].to_vec(),
+                    v: v[w0..(w0 + nw).min(v.len())].to_vec(),
+                    lambda: forces,
+                };
+                w0 += nw;
+                fields
+            })
+            .collect()
     }
 
     /// The global dof of node i, component c of body b (its Γ_C vertices are free).

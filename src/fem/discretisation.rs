@@ -219,6 +219,11 @@ impl Discretisation {
         })
     }
 
+    /// Number of vertices (the nodes of the velocity space H_h of degree 1).
+    pub fn vertex_count(&self) -> usize {
+        self.vertex_index().1
+    }
+
     /// Index of every vertex in the velocity space H_h (degree-1 nodes, by node order), or None.
     fn vertex_index(&self) -> (Vec<Option<usize>>, usize) {
         let mut count = 0;

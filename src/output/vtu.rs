@@ -6,7 +6,16 @@
 //! `contact_pressure` = λ_r / |Γ_C|_r on the vertices of Γ_C (≥ 0 in compression), 0 elsewhere.
 //! Cell data: `von_mises`, the von Mises stress at the cell centroid (plane strain in 2D).
 //! Points are the reference (undeformed) positions: ParaView's *Warp By Vector* on
-//! `displacement` draws the deformed body. P2/Q2 cells are VTK's quadratic cells (quadratic
+//! `displacement` draws the deformed body.
+//!
+//! **Several bodies** (`two_discs`, `two_spheres`): one grid per sample holding every body, its
+//! points and cells body after body, with the cell array `body` (1 the slave, 2 the master):
+//! one file and one pipeline per time step as for one body (*Warp By Vector* moves both
+//! bodies, *Threshold* on `body` shows one). `contact_pressure` is on both sides of the
+//! interface: the row's `λ_r / |Γ_C|_r` at the slave's vertex, and the reaction `Σ_r N_k λ_r`
+//! spread on the master face's vertices k by its shape functions, over the master vertex's
+//! tributary area ([`crate::fem::bodies::Bodies::vertex_shares`]); the two integrate to the
+//! same total force. P2/Q2 cells are VTK's quadratic cells (quadratic
 //! triangle 22, biquadratic quad 28, quadratic tetra 24, triquadratic hexahedron 29), their
 //! nodes permuted into VTK's order by reference coordinates ([`vtk_order`]).
 
@@ -83,10 +92,11 @@ pub fn vtk_order(el: &RefElement) -> (CellType, Vec<usize>) {
     (cell_type, order)
 }
 
-/// Fields of a body written every `every` samples into `dir` as `<stem>_<index>.vtu`, listed
-/// in `<stem>.pvd` (rewritten after each file, so that it is valid if the run stops).
+/// Fields of a body (or of several bodies, one grid) written every `every` samples into `dir`
+/// as `<stem>_<index>.vtu`, listed in `<stem>.pvd` (rewritten after each file, so that it is
+/// valid if the run stops).
 pub struct VtuSeries<'a> {
-    fem: &'a Discretisation,
+    parts: Vec<&'a Discretisation>,
     dir: PathBuf,
     stem: String,
     every: usize,
@@ -118,6 +128,17 @@ fn padded(values: &[f64], d: usize) -> Vec<f64> {
 impl<'a> VtuSeries<'a> {
     /// Creates `dir`; `every ≥ 1` (checked by the caller's argument validation, refused here too).
     pub fn new(fem: &'a Discretisation, dir: &Path, stem: &str, every: usize) -> Result<Self> {
+        Self::of_bodies(vec![fem], dir, stem, every)
+    }
+
+    /// As [`VtuSeries::new`] for several bodies in one grid: their points and cells one after
+    /// the other, with the cell array `body` (1, 2, …) when there are several.
+    pub fn of_bodies(
+        parts: Vec<&'a Discretisation>,
+        dir: &Path,
+        stem: &str,
+        every: usize,
+    ) -> Result<Self> {
         if every == 0 {
             return Err(Error::invalid("vtu-every", every, "must be ≥ 1"));
         }
@@ -128,18 +149,23 @@ impl<'a> VtuSeries<'a> {
             });
         }
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        let (cell_type, order) = vtk_order(&fem.mesh.element);
-        let connectivity: Vec<u64> = fem
-            .mesh
-            .connectivity
-            .iter()
-            .flat_map(|cell| order.iter().map(|&a| cell[a] as u64))
-            .collect();
-        let offsets = (1..=fem.mesh.connectivity.len())
-            .map(|c| (c * order.len()) as u64)
-            .collect();
+        let (mut connectivity, mut offsets, mut types) = (Vec::new(), Vec::new(), Vec::new());
+        let mut node0 = 0;
+        for fem in &parts {
+            let (cell_type, order) = vtk_order(&fem.mesh.element);
+            for cell in &fem.mesh.connectivity {
+                connectivity.extend(order.iter().map(|&a| (node0 + cell[a]) as u64));
+                offsets.push(connectivity.len() as u64);
+                types.push(cell_type);
+            }
+            node0 += fem.mesh.nodes.len();
+        }
         Ok(Self {
-            fem,
+            points: parts
+                .iter()
+                .flat_map(|fem| fem.mesh.nodes.iter().flatten().copied())
+                .collect(),
+            parts,
             dir: dir.to_path_buf(),
             stem: stem.to_string(),
             every,
@@ -148,33 +174,56 @@ impl<'a> VtuSeries<'a> {
                     connectivity,
                     offsets,
                 },
-                types: vec![cell_type; fem.mesh.connectivity.len()],
+                types,
             },
-            points: fem.mesh.nodes.iter().flatten().copied().collect(),
             written: Vec::new(),
         })
     }
 
     /// Writes sample number `index` of the run when `index` is a multiple of `every`.
     pub fn sample(&mut self, index: usize, s: &Fields<'_>) -> Result<()> {
+        self.sample_bodies(index, std::slice::from_ref(s))
+    }
+
+    /// As [`VtuSeries::sample`] with each body's fields (in the order of the bodies).
+    pub fn sample_bodies(&mut self, index: usize, s: &[Fields<'_>]) -> Result<()> {
         if index % self.every != 0 {
             return Ok(());
         }
+        if s.len() != self.parts.len() {
+            return Err(Error::Internal(format!(
+                "fields of {} bodies for a grid of {}",
+                s.len(),
+                self.parts.len()
+            )));
+        }
         let name = format!("{}_{index:06}.vtu", self.stem);
         let path = self.dir.join(&name);
-        let d = self.fem.dim();
-        let velocity = self.fem.nodal_velocity(s.v)?;
+        let (mut u, mut v, mut p, mut mises, mut body) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (b, (fem, f)) in self.parts.iter().zip(s).enumerate() {
+            let d = fem.dim();
+            u.extend(padded(f.u, d));
+            v.extend(padded(&fem.nodal_velocity(f.v)?, d));
+            p.extend(fem.contact_pressure(f.lambda));
+            let von_mises = fem.von_mises(f.u);
+            body.extend(std::iter::repeat((b + 1) as f64).take(von_mises.len()));
+            mises.extend(von_mises);
+        }
         let point = vec![
-            Attribute::vectors("displacement").with_data(padded(s.u, d)),
-            Attribute::vectors("velocity").with_data(padded(&velocity, d)),
-            Attribute::scalars("contact_pressure", 1)
-                .with_data(self.fem.contact_pressure(s.lambda)),
+            Attribute::vectors("displacement").with_data(u),
+            Attribute::vectors("velocity").with_data(v),
+            Attribute::scalars("contact_pressure", 1).with_data(p),
         ];
-        let cell = vec![Attribute::scalars("von_mises", 1).with_data(self.fem.von_mises(s.u))];
+        let mut cell = vec![Attribute::scalars("von_mises", 1).with_data(mises)];
+        if self.parts.len() > 1 {
+            cell.push(Attribute::scalars("body", 1).with_data(body));
+        }
+        let t = s[0].t;
         let vtk = Vtk {
             version: Version::new_xml(1, 0),
             byte_order: ByteOrder::LittleEndian,
-            title: format!("{} t = {:.6e}", self.stem, s.t),
+            title: format!("{} t = {t:.6e}", self.stem),
             file_path: None,
             data: DataSet::inline(UnstructuredGridPiece {
                 points: self.points.clone().into(),
@@ -188,7 +237,7 @@ impl<'a> VtuSeries<'a> {
                 message: e.to_string(),
             })
         })?;
-        self.written.push((s.t, name));
+        self.written.push((t, name));
         self.write_collection()
     }
 

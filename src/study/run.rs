@@ -138,15 +138,25 @@ pub fn run_with_output(
     fields: Option<&FieldOutput>,
 ) -> Result<RunResult> {
     let spec = case.run();
-    let mut vtu = match (fields, case.discretisation()) {
-        (None, _) => None,
-        (Some(f), Some(fem)) => Some(VtuSeries::new(fem, &f.dir, case.kind(), f.every)?),
-        (Some(_), None) => {
+    // The bodies written and, for several, each row's force on their Γ_C vertices.
+    let bodies = case.multi_body();
+    let shares = match (fields, bodies) {
+        (Some(_), Some(b)) => b.vertex_shares()?,
+        _ => Vec::new(),
+    };
+    let parts = match bodies {
+        Some(b) => b.parts.iter().collect(),
+        None => case.discretisation().into_iter().collect::<Vec<_>>(),
+    };
+    let mut vtu = match fields {
+        None => None,
+        Some(_) if parts.is_empty() => {
             return Err(Error::Unsupported(format!(
                 "field output (--vtu) needs a 2D/3D body case, not {}",
                 case.kind()
             )))
         }
+        Some(f) => Some(VtuSeries::of_bodies(parts, &f.dir, case.kind(), f.every)?),
     };
     let steps = spec.steps();
     // The time series and field errors kept per step (rows, copies in flight aside).
@@ -191,15 +201,30 @@ pub fn run_with_output(
             for (index, snap) in rx.into_iter().enumerate() {
                 let s = snap.state();
                 if let Some(out) = vtu.as_mut() {
-                    out.sample(
-                        index,
-                        &Fields {
-                            t: s.t,
-                            u: s.u,
-                            v: s.v,
-                            lambda: &problem.contact.vertex_forces(s.lambda).0,
-                        },
-                    )?;
+                    match bodies {
+                        Some(b) => {
+                            let split = b.split(&shares, s.u, s.v, s.lambda);
+                            let each: Vec<Fields> = split
+                                .iter()
+                                .map(|f| Fields {
+                                    t: s.t,
+                                    u: &f.u,
+                                    v: &f.v,
+                                    lambda: &f.lambda,
+                                })
+                                .collect();
+                            out.sample_bodies(index, &each)?;
+                        }
+                        None => out.sample(
+                            index,
+                            &Fields {
+                                t: s.t,
+                                u: s.u,
+                                v: s.v,
+                                lambda: &problem.contact.vertex_forces(s.lambda).0,
+                            },
+                        )?,
+                    }
                 }
                 let row = probe_row(problem, &mut probe, &s, exact);
                 if let Some((what, value)) = row.non_finite() {
