@@ -197,6 +197,10 @@ impl Case for TwoBars {
     fn momentum(&self) -> Option<Vec<f64>> {
         Some(self.translation())
     }
+
+    fn multi_body(&self) -> Option<&Bodies> {
+        Some(&self.bodies)
+    }
 }
 
 /// L² and H¹-seminorm errors of both bars against the exact field: per element, 3-point Gauss

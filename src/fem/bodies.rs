@@ -324,6 +324,20 @@ impl Bodies {
         Ok(vec![slave.collect(), master.collect()])
     }
 
+    /// The master's contact point facing the probe ([`Bodies::problem`]): the global dofs along
+    /// e_d of the vertices k of the master face the probe's slave vertex projects on, with N_k
+    /// (the point's displacement along the line of impact is `Σ N_k U_k`; in 1D the master
+    /// bar's end).
+    pub fn master_probe(&self) -> Result<Vec<(usize, f64)>> {
+        let pairs = self.pairings(0, 1)?;
+        let d = self.dim();
+        Ok(pairs[first_row(&pairs)]
+            .master
+            .iter()
+            .map(|&(k, n)| (self.global(1, k, d - 1), n))
+            .collect())
+    }
+
     /// Each body's part of a run's state (U, V, the rows' contact forces λ), with the rows'
     /// `shares` of [`Bodies::vertex_shares`]. V is in V_h (the length of U) or in the singular
     /// dynamic method's H_h, each body's vertices in turn.
@@ -370,7 +384,11 @@ impl Bodies {
     /// The contact rows of the interface (slave's Γ_C vertices on the master's faces), with the
     /// slave vertices' tributary areas (`σ_N = −λ/area`) and the slave's Γ_C faces on those rows.
     pub fn interface(&self, slave: usize, master: usize) -> Result<Contact> {
-        let pairs = self.pairings(slave, master)?;
+        self.contact_of(slave, &self.pairings(slave, master)?)
+    }
+
+    /// The contact rows of the pairings `pairs` of the body `slave`'s Γ_C vertices.
+    fn contact_of(&self, slave: usize, pairs: &[Pairing]) -> Result<Contact> {
         let s = &self.parts[slave];
         let mut b_n = TripletBuilder::new(pairs.len(), self.n_dofs());
         for (r, p) in pairs.iter().enumerate() {
@@ -437,7 +455,8 @@ impl Bodies {
     /// a body with `gravity` g carries its weight `−ρ g e_d` (each body its own, so that one may
     /// press on the other, which flies free but for their contact); the gravitational energy
     /// `−Fᵀ U` is measured from the reference configuration. The probe is the slave's normal dof
-    /// at the contact row of smallest initial gap.
+    /// at the contact row of smallest initial gap (its vertex: the row's own, as a slave vertex
+    /// may have no row).
     pub fn problem(
         &self,
         inertia: impl FnOnce(&MassModel) -> Result<Box<dyn Inertia>>,
@@ -449,7 +468,8 @@ impl Bodies {
             ));
         }
         let inertia = inertia(&self.mass_model())?;
-        let contact = self.interface(0, 1)?;
+        let pairs = self.pairings(0, 1)?;
+        let contact = self.contact_of(0, &pairs)?;
         let n = self.n_dofs();
         let (mut u0, mut v0, mut f) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         for (b, init) in initial.iter().enumerate() {
@@ -460,11 +480,9 @@ impl Bodies {
                 self.place(b, &p.gravity_load(&p.mass_model(), g), &mut f);
             }
         }
-        let first = (0..contact.len())
-            .min_by(|&a, &b| contact.g0[a].total_cmp(&contact.g0[b]))
-            .unwrap_or(0);
+        let first = first_row(&pairs);
         let s = &self.parts[0];
-        let vertex = s.contact_vertices[first].0;
+        let vertex = s.contact_vertices[pairs[first].slave].0;
         let u_dof = self.global(0, vertex, self.dim() - 1);
         Ok(Problem {
             probe: Probe {
@@ -481,6 +499,13 @@ impl Bodies {
             energy_shift: 0.0,
         })
     }
+}
+
+/// The probe's row: the pairing of smallest g₀ (the first to close), the first of ties.
+fn first_row(pairs: &[Pairing]) -> usize {
+    (0..pairs.len())
+        .min_by(|&a, &b| pairs[a].g0.total_cmp(&pairs[b].g0))
+        .unwrap_or(0)
 }
 
 /// The velocity spaces of the bodies side by side (H_h dofs shifted like the V_h dofs).

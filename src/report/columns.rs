@@ -76,6 +76,8 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("force_contact", "case (force)", "total contact force Σλ (per unit thickness in 2D)"),
     ("approach", "case (length)", "displacement of the centre of mass towards the plane (curved bodies)"),
     ("momentum", "case (mass·length/time)", "total linear momentum `(M̃1)ᵀV` along the line of impact, with the space's own mass (two-body cases)"),
+    ("u_contact_master", "case (length)", "multi-body cases: displacement along the line of impact of the master's contact point facing the probe, `Σ N_k u_k,d` on the master face the probe's slave vertex projects on (the master bar's end in 1D); the master's probe, as `u_contact` is the slave's"),
+    ("v_contact_master", "case (length/time)", "multi-body cases: velocity of that point, `Σ N_k v_k,d` (inertial velocity dofs; the H_h vertices for the singular dynamic method)"),
     ("com_velocity_t", "case (length/time)", "velocity of the centre of mass along the first tangent of the plane, `(M̃1)ᵀV / 1ᵀM̃1` with the space's own mass (runs with friction)"),
     ("friction_work", "case (energy)", "work dissipated by Coulomb friction so far, `W_f = Σ −r_T · u_T ≥ 0` on the slip each scheme measures (runs with friction); `energy + friction_work` is E(0) for an energy-conserving scheme"),
     ("u_contact_exact", "case (length)", "exact `u_contact`"),
@@ -105,6 +107,7 @@ const DOCS: &[(&str, &str, &str)] = &[
 fn files() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
     let mut timeseries: Vec<&str> = trajectory::TIMESERIES_COLUMNS.to_vec();
     timeseries.extend(["approach", "momentum"]);
+    timeseries.extend(trajectory::MASTER_COLUMNS);
     timeseries.extend(trajectory::FRICTION_COLUMNS);
     timeseries.extend(trajectory::EXACT_COLUMNS);
     vec![

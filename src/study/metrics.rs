@@ -493,6 +493,7 @@ mod tests {
                 force_contact: 0.0,
                 approach: None,
                 momentum: None,
+                master: None,
                 friction: None,
                 exact: Some((0.0, 0.0, 0.0)),
             })

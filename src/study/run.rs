@@ -144,10 +144,11 @@ pub fn run_with_output(
         (Some(_), Some(b)) => b.vertex_shares()?,
         _ => Vec::new(),
     };
-    let parts = match bodies {
+    let mut parts = match bodies {
         Some(b) => b.parts.iter().collect(),
         None => case.discretisation().into_iter().collect::<Vec<_>>(),
     };
+    parts.retain(|p| p.dim() >= 2);
     let mut vtu = match fields {
         None => None,
         Some(_) if parts.is_empty() => {
@@ -191,6 +192,11 @@ pub fn run_with_output(
             energy: problem.energy_form(),
             centre: impact.as_ref().map(|i| i.centre.clone()),
             translation: case.momentum().map(|t| (t, vec![0.0; problem.n()])),
+            master: bodies.map(|b| b.master_probe()).transpose()?.map(|w| {
+                w.into_iter()
+                    .map(|(j, n)| (j, problem.inertia.velocity_dof(j), n))
+                    .collect()
+            }),
             slide: friction.then(|| slide_direction(problem)),
         };
         let sampler = scope.spawn(move || -> Result<_> {
@@ -441,6 +447,8 @@ struct Probe {
     centre: Option<Vec<(usize, f64)>>,
     /// The unit translation `1_d` of a multi-body case and a buffer for `M̃V`.
     translation: Option<(Vec<f64>, Vec<f64>)>,
+    /// A multi-body case's master point facing the probe: `(u dof, inertial velocity dof, N_k)`.
+    master: Option<Vec<(usize, usize, f64)>>,
     /// With friction: the unit translation along the first tangent with its buffer, and the
     /// mass `1ᵀM̃1` (the centre of mass's velocity is `(M̃1)ᵀV / 1ᵀM̃1`).
     slide: Option<Slide>,
@@ -500,6 +508,11 @@ fn probe_row(
             .translation
             .as_mut()
             .map(|t| momentum(problem, t, s.v)),
+        master: probe.master.as_ref().map(|w| {
+            w.iter().fold((0.0, 0.0), |(u, v), &(j, k, n)| {
+                (u + n * s.u[j], v + n * s.v[k])
+            })
+        }),
         friction: probe
             .slide
             .as_mut()

@@ -3,7 +3,9 @@
 //! `timeseries.csv`: `t, u_contact, v_contact, sigma_contact, energy, gap, force_contact` (the total
 //! contact force Σλ), then `approach` (the centre of mass's displacement towards the plane) for
 //! the curved-body cases, `momentum` (the total linear momentum `(M̃1_d)ᵀV` along the line of
-//! impact, with the space's own mass) for the multi-body cases, `com_velocity_t` (the centre of
+//! impact, with the space's own mass) and `u_contact_master, v_contact_master` (the master's
+//! contact point facing the probe, along the line of impact) for the multi-body cases,
+//! `com_velocity_t` (the centre of
 //! mass's velocity along the first tangent of the plane) and `friction_work` (`W_f ≥ 0`, the
 //! work dissipated by Coulomb friction) for the runs with friction and, when the case has an exact
 //! solution,
@@ -37,6 +39,9 @@ pub struct Row {
     pub approach: Option<f64>,
     /// Total linear momentum `(M̃1_d)ᵀV` along the line of impact (multi-body cases).
     pub momentum: Option<f64>,
+    /// Displacement and velocity along the line of impact of the master's contact point facing
+    /// the probe (multi-body cases).
+    pub master: Option<(f64, f64)>,
     /// With friction: the centre of mass's velocity along the first tangent and the friction
     /// work `W_f` so far.
     pub friction: Option<(f64, f64)>,
@@ -60,6 +65,8 @@ impl Row {
         computed
             .map(|(c, v)| (*c, v))
             .chain(self.approach.map(|a| ("approach", a)))
+            .chain(self.master.map(|m| ("u_contact_master", m.0)))
+            .chain(self.master.map(|m| ("v_contact_master", m.1)))
             .find(|(_, v)| !v.is_finite())
     }
 }
@@ -74,6 +81,8 @@ pub const TIMESERIES_COLUMNS: &[&str] = &[
     "gap",
     "force_contact",
 ];
+/// The master's probe columns of `timeseries.csv` (multi-body cases, after `momentum`).
+pub const MASTER_COLUMNS: &[&str] = &["u_contact_master", "v_contact_master"];
 /// Friction columns of `timeseries.csv` (runs with friction only).
 pub const FRICTION_COLUMNS: &[&str] = &["com_velocity_t", "friction_work"];
 /// Exact-solution columns of `timeseries.csv`.
@@ -90,6 +99,9 @@ pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
     }
     if momentum {
         header.push("momentum");
+    }
+    if rows.first().is_some_and(|r| r.master.is_some()) {
+        header.extend_from_slice(MASTER_COLUMNS);
     }
     if friction {
         header.extend_from_slice(FRICTION_COLUMNS);
@@ -112,6 +124,9 @@ pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
             ];
             v.extend(r.approach);
             v.extend(r.momentum);
+            if let Some((u, w)) = r.master {
+                v.extend([u, w]);
+            }
             if let Some((c, w)) = r.friction {
                 v.extend([c, w]);
             }
