@@ -70,10 +70,34 @@ pub struct Pcg {
     block: Option<FactoredBlock>,
     /// Terms `κ_i r_i r_iᵀ` added to A ([`Pcg::set_rank_one`]).
     rank_one: Vec<(Vec<(usize, f64)>, f64)>,
+    /// Tied dofs `x_p = Σ_j t_j x_j` ([`Pcg::set_ties`]).
+    ties: Vec<Tie>,
     r: Vec<f64>,
     z: Vec<f64>,
     p: Vec<f64>,
     q: Vec<f64>,
+}
+
+/// A dof `p` tied to others, `x_p = Σ_j t_j x_j + const` (an active constraint row solved for
+/// its own dof): `(p, [(j, t_j)])`.
+pub type Tie = (usize, Vec<(usize, f64)>);
+
+/// `x_p = Σ_j t_j x_j` on every tied dof (the expansion `x = T y`).
+fn expand(ties: &[Tie], x: &mut [f64]) {
+    for (p, row) in ties {
+        x[*p] = row.iter().map(|&(j, t)| t * x[j]).sum();
+    }
+}
+
+/// `y ← Tᵀ y` restricted to the free dofs: each tied dof's entry goes to its partners, weighted
+/// by `t_j` (the free ones), and the tied entry becomes 0.
+fn fold(ties: &[Tie], y: &mut [f64], free: &[bool]) {
+    for (p, row) in ties {
+        let v = std::mem::take(&mut y[*p]);
+        for &(j, t) in row.iter().filter(|e| free[e.0]) {
+            y[j] += t * v;
+        }
+    }
 }
 
 /// A principal block `A_SS` of the preconditioner, factored (sparse Cholesky) and solved in
@@ -325,6 +349,7 @@ impl Pcg {
             jacobi,
             block,
             rank_one: Vec::new(),
+            ties: Vec::new(),
             r: vec![0.0; n],
             z: vec![0.0; n],
             p: vec![0.0; n],
@@ -364,6 +389,52 @@ impl Pcg {
         Ok(())
     }
 
+    /// Solves with the dofs `p` of `ties` tied to others, `x_p = Σ_j t_j x_j + const` (active
+    /// constraint rows, each solved for a dof of its own; `x` satisfies them on entry to
+    /// [`Pcg::solve`]), until the next call: CG runs on `TᵀAT` (T the expansion `x = T y` of the
+    /// untied dofs; the tied ones must be kept fixed, `free` false), and the factored block is
+    /// factored again as `T_SSᵀ A_SS T_SS` (identity on the tied dofs), so that it sees the
+    /// coupling the ties make. Every dof of `ties` must lie in the block (or there be none).
+    /// Not with [`Pcg::set_rank_one`] terms.
+    pub fn set_ties(&mut self, ties: Vec<Tie>, name: &str) -> Result<()> {
+        if let Some(bl) = self.block.as_mut() {
+            let mut index = vec![usize::MAX; self.r.len()];
+            for (k, &i) in bl.dofs.iter().enumerate() {
+                index[i] = k;
+            }
+            let local = |i: usize| {
+                (index[i] != usize::MAX).then_some(index[i]).ok_or_else(|| {
+                    crate::error::Error::Internal(format!(
+                        "tied dof {i} outside the factored block"
+                    ))
+                })
+            };
+            let n = bl.dofs.len();
+            // Row a of T_SS: (a, 1), or a tied dof's (j, t_j).
+            let mut t_rows: Vec<Vec<(usize, f64)>> = (0..n).map(|a| vec![(a, 1.0)]).collect();
+            for (p, row) in &ties {
+                t_rows[local(*p)?] = row
+                    .iter()
+                    .map(|&(j, t)| Ok((local(j)?, t)))
+                    .collect::<Result<_>>()?;
+            }
+            let mut t = TripletBuilder::new(n, n);
+            for (a, b, v) in triplets(&bl.a_ss) {
+                for &(j, tj) in &t_rows[a] {
+                    for &(k, tk) in &t_rows[b] {
+                        t.add(j, k, tj * v * tk);
+                    }
+                }
+            }
+            for (p, _) in &ties {
+                t.add(local(*p)?, local(*p)?, 1.0);
+            }
+            bl.factor = SingleFactor::cholesky(&t.build()?, &block_name(name))?;
+        }
+        self.ties = ties;
+        Ok(())
+    }
+
     /// Solves `A x = b` for the entries where `free` is true, the others of `x` fixed at their
     /// values on entry; `x` is also the initial guess. Stops when `‖r‖₂ ≤ tol ‖b‖₂` over the free
     /// entries; returns the iterations, or `Err(‖r‖/‖b‖)` after `max_iter`.
@@ -396,14 +467,23 @@ impl Pcg {
     ) -> std::result::Result<usize, f64> {
         let b2: f64 = (0..x.len()).filter(|&i| free[i]).map(|i| b[i] * b[i]).sum();
         let (target2, check2) = (tol * tol * b2, check * check * b2);
+        // The products keep the tied dofs' entries for `fold`.
+        let mut wide = Vec::new();
+        if !self.ties.is_empty() {
+            wide = free.to_vec();
+            for (p, _) in &self.ties {
+                wide[*p] = true;
+            }
+        }
+        let masks = (free, if wide.is_empty() { free } else { &wide[..] });
         let mut it = 0;
         loop {
-            let res2 = self.residual(b, x, free);
+            let res2 = self.residual(b, x, masks);
             if res2 <= target2 {
                 return Ok(it);
             }
             let (done, stopped) =
-                self.iterate(x, free, (target2, max_iter - it), (check2, &mut stop));
+                self.iterate(x, masks, (target2, max_iter - it), (check2, &mut stop));
             it += done;
             if stopped {
                 return Ok(it);
@@ -414,14 +494,16 @@ impl Pcg {
         }
     }
 
-    /// `r = Π (b − A x)` with the exact matrix; returns `r·r`.
-    fn residual(&mut self, b: &[f64], x: &[f64], free: &[bool]) -> f64 {
+    /// `r = Π Tᵀ (b − A x)` with the exact matrix (`wide`: the free and the tied dofs); returns
+    /// `r·r`.
+    fn residual(&mut self, b: &[f64], x: &[f64], (free, wide): (&[bool], &[bool])) -> f64 {
         let (r, q) = (&mut self.r, &mut self.q);
         self.op.mul(q, x);
         add_rank_one(&self.rank_one, q, x, None);
         for i in 0..x.len() {
-            r[i] = if free[i] { b[i] - q[i] } else { 0.0 };
+            r[i] = if wide[i] { b[i] - q[i] } else { 0.0 };
         }
+        fold(&self.ties, r, free);
         dot(r, r)
     }
 
@@ -432,7 +514,7 @@ impl Pcg {
     fn iterate(
         &mut self,
         x: &mut [f64],
-        free: &[bool],
+        (free, wide): (&[bool], &[bool]),
         (target2, limit): (f64, usize),
         (check2, stop): (f64, &mut impl FnMut(&[f64]) -> bool),
     ) -> (usize, bool) {
@@ -441,6 +523,7 @@ impl Pcg {
             jacobi,
             block,
             rank_one,
+            ties,
             r,
             z,
             p,
@@ -459,8 +542,10 @@ impl Pcg {
             if it == limit {
                 break;
             }
+            expand(ties, p);
             let curvature =
-                op.mul_masked_dot_fast(q, p, free) + add_rank_one(rank_one, q, p, Some(free));
+                op.mul_masked_dot_fast(q, p, wide) + add_rank_one(rank_one, q, p, Some(free));
+            fold(ties, q, free);
             let alpha = rz / curvature;
             if let Some(bl) = block.as_mut() {
                 bl.load(|i| r[i] - alpha * q[i]);
@@ -603,6 +688,41 @@ mod tests {
         assert!(pcg
             .solve(&b, &mut vec![0.0; 40], &free, (1e-12, 1))
             .is_err());
+    }
+
+    /// A tied dof `x₀ = ½ x₃ − ⅕ x₇ + 0.1` (fixed for CG, its row folded onto its partners, the
+    /// block refactored with the tie): the solution keeps the tie and solves `Tᵀ (b − A x) = 0`
+    /// on the untied dofs, the constrained system.
+    #[test]
+    fn pcg_with_a_tie_solves_the_constrained_system() {
+        let n = 60;
+        let mut t = TripletBuilder::new(n, n);
+        for (i, j, v) in triplets(&laplacian(n)) {
+            let s = if i < n / 2 && j < n / 2 { 1e4 } else { 1.0 };
+            t.add(i, j, s * v + if i == j { 1e-2 } else { 0.0 });
+        }
+        let a = t.build().unwrap();
+        let b: Vec<f64> = (0..n).map(|i| (0.3 * i as f64).sin()).collect();
+        let mut pcg = Pcg::with_block(&a, "A", (0..n / 2 + 1).collect()).unwrap();
+        let tie = vec![(3, 0.5), (7, -0.2)];
+        pcg.set_ties(vec![(0, tie.clone())], "A").unwrap();
+        let mut free = vec![true; n];
+        free[0] = false;
+        let mut x = vec![0.0; n];
+        x[0] = 0.1;
+        let it = pcg.solve(&b, &mut x, &free, (1e-12, 500)).unwrap();
+        assert!((x[0] - 0.5 * x[3] + 0.2 * x[7] - 0.1).abs() < 1e-14);
+        let ax = mul(&a, &x);
+        let res: Vec<f64> = (0..n).map(|i| b[i] - ax[i]).collect();
+        let mut folded = res.clone();
+        for &(j, t) in &tie {
+            folded[j] += t * res[0];
+        }
+        let worst = (1..n).map(|i| folded[i].abs()).fold(0.0, f64::max);
+        assert!(worst < 1e-9, "{it} iterations: residual {worst:e}");
+        // The tie is outside the block: refused.
+        let mut small = Pcg::with_block(&a, "A", (0..5).collect()).unwrap();
+        assert!(small.set_ties(vec![(0, tie)], "A").is_err());
     }
 
     /// With a block solved by its (single-precision) factor, PCG still converges to the solution (a fixed entry inside

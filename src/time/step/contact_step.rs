@@ -4,7 +4,7 @@
 
 use super::compliant::{symmetric_law, CompliantStep};
 use super::direct::DirectStep;
-use super::iterative::{nodal_points, IterativeStep};
+use super::iterative::{own_dofs, IterativeStep};
 use crate::contact::{SolveInfo, Solver};
 use crate::error::{Error, Result};
 use crate::linalg::{self, SpMat};
@@ -46,8 +46,10 @@ impl LinearSolver {
 
 /// Dofs from which [`LinearSolver::Auto`] considers CG.
 pub const AUTO_CG_DOFS: usize = 50_000;
-/// The rule of [`LinearSolver::Auto`]: CG when the mass is a sparse matrix, the contact is nodal
-/// along axes, the problem has n ≥ [`AUTO_CG_DOFS`] dofs and K is not a narrow band (2D and 3D
+/// The rule of [`LinearSolver::Auto`]: CG when the mass is a sparse matrix, every contact row
+/// has a dof of its own (nodal contact along axes, node-to-segment pairs of two bodies:
+/// [`super::iterative::own_dofs`]), the problem has n ≥ [`AUTO_CG_DOFS`] dofs and K is not a
+/// narrow band (2D and 3D
 /// meshes, where the Cholesky factor fills in and each direct step also pays the Delassus
 /// correction over every active contact column); the direct factor otherwise, 1D included.
 /// Measured (README, Speed): block2d Q1 224² 19 against 42 ms per step, block3d Q1 32³ 41 ms
@@ -56,7 +58,7 @@ pub fn cg_pays(problem: &Problem, k: &SpMat) -> bool {
     problem.inertia.sparse().is_some()
         && problem.n() >= AUTO_CG_DOFS
         && !linalg::is_narrow_band(k)
-        && nodal_points(problem).is_ok()
+        && own_dofs(problem).is_ok()
 }
 
 /// The rule of [`LinearSolver::Auto`] for a compliant law (Nitsche's): as [`cg_pays`], with a

@@ -9,6 +9,13 @@
 //! solves `A U = r` on the other dofs; then
 //! - `λ_i = (r − A U)_{d_i} / (c b_i)` on 𝒜 (the row of `A U = r − c B_Nᵀ λ`), 0 elsewhere;
 //! - `g_i = o_i − b_i U_{d_i}` off 𝒜;
+//!
+//! and likewise when row i is `b_i e_{d_i}ᵀ + Σ_j b_ij e_jᵀ` with a dof d_i of its own (in no
+//! other row, and no row's own dof among the j: the slave's normal dof of a node-to-segment pair
+//! of two bodies, [`own_dofs`]): on 𝒜 the row ties `U_{d_i} = (o_i − Σ_j b_ij U_j) / b_i`, CG
+//! solves `Tᵀ A T Y = Tᵀ (r − A U₀)` on the untied dofs ([`Pcg::set_ties`], its factored block
+//! refactored with the ties when 𝒜 changes: it holds both bodies' caps), λ_i is read off row
+//! d_i as above and `g_i = o_i − b_i U_{d_i} − Σ_j b_ij U_j` off 𝒜.
 //! - 𝒜 ← {i ∈ 𝒜 : λ_i ≥ −τ_λ} ∪ {i ∉ 𝒜 : g_i < −τ_g}, until 𝒜 no longer changes.
 //!
 //! U starts from the cubic extrapolation `4U_n − 6U_{n−1} + 4U_{n−2} − U_{n−3}` of the previous
@@ -54,6 +61,13 @@ const ACTIVE_SET_CHECK: f64 = 1e-7;
 /// Relative thresholds τ of the active-set update (above CG's accuracy, so that round-off
 /// does not flip a grazing point).
 pub(super) const ACTIVE_SET_TOLERANCE: f64 = 1e-8;
+/// Name of the step matrix in messages.
+const NAME: &str = "step matrix m·M + k·K";
+
+/// A sparse row `(j, v_j)`.
+type SparseRow = Vec<(usize, f64)>;
+/// Each contact row's own dof and coefficient `(d_i, b_i)`, and the rest of the row.
+pub type OwnDofs = (Vec<(usize, f64)>, Vec<SparseRow>);
 
 /// The CG step with its active set and solution history.
 pub struct IterativeStep {
@@ -61,8 +75,12 @@ pub struct IterativeStep {
     rows: Vec<Vec<(usize, f64)>>,
     pcg: Pcg,
     c: f64,
-    /// `(d_i, b_i)` of every contact point: row i of B_N is `b_i e_{d_i}ᵀ`.
+    /// `(d_i, b_i)` of every contact point: its own dof and coefficient in row i of B_N.
     points: Vec<(usize, f64)>,
+    /// The rest of row i of B_N, `(j, b_ij)` (empty for nodal contact).
+    others: Vec<Vec<(usize, f64)>>,
+    /// The active set whose ties CG's matrix has (pair rows only).
+    tied: Vec<bool>,
     free: Vec<bool>,
     active: Vec<bool>,
     history: History,
@@ -120,16 +138,32 @@ impl IterativeStep {
                     .into(),
             ));
         };
-        let points = nodal_points(problem)?;
+        let (points, others) = own_dofs(problem)?;
         let a = linalg::lin_comb(m_coef, m, k_coef, k)?;
         let n = a.nrows();
-        let block = massless_neighbourhood(m, k);
+        let mut block = massless_neighbourhood(m, k);
+        if others.iter().any(|o| !o.is_empty()) {
+            // Pair rows: the ties couple every dof of the rows in the factored block.
+            let mut in_block = vec![false; n];
+            let rows = points.iter().map(|p| p.0);
+            for i in block
+                .iter()
+                .copied()
+                .chain(rows)
+                .chain(others.iter().flatten().map(|e| e.0))
+            {
+                in_block[i] = true;
+            }
+            block = (0..n).filter(|&i| in_block[i]).collect();
+        }
         Ok(Self {
-            pcg: Pcg::with_block(&a, "step matrix m·M + k·K", block)?,
+            pcg: Pcg::with_block(&a, NAME, block)?,
             rows: points.iter().map(|&(d, _)| column(&a, d)).collect(),
             c,
             active: vec![false; points.len()],
+            tied: vec![false; points.len()],
             points,
+            others,
             free: vec![true; n],
             history: History::new(n),
         })
@@ -138,6 +172,8 @@ impl IterativeStep {
     /// Solves `A U = r` without contact.
     pub fn solve_free(&mut self, r: &[f64], u: &mut [f64], w: &mut [f64]) -> Result<()> {
         self.free.fill(true);
+        self.active.fill(false);
+        self.tie_active()?;
         self.history.extrapolate(u);
         self.cg(r, u, (0, f64::NAN), None)?;
         self.history.remember(u);
@@ -176,14 +212,36 @@ impl IterativeStep {
         Err(unsettled("the active set of the cg step", at))
     }
 
-    /// Fixes `U_{d_i} = o_i / b_i` on the active points and frees the other dofs.
+    /// Fixes `U_{d_i} = (o_i − Σ_j b_ij U_j) / b_i` on the active points (the gap closed) and
+    /// frees the other dofs.
     fn fix_active(&mut self, offset: &[f64], u: &mut [f64]) {
         for (i, &(d, b)) in self.points.iter().enumerate() {
             self.free[d] = !self.active[i];
             if self.active[i] {
-                u[d] = offset[i] / b;
+                u[d] = (offset[i] - row_dot(&self.others[i], u)) / b;
             }
         }
+    }
+
+    /// Gives CG's matrix the ties of the active pair rows, `U_{d_i} = −Σ_j (b_ij / b_i) U_j`
+    /// (nothing to do for nodal contact).
+    fn tie_active(&mut self) -> Result<()> {
+        if self.tied == self.active || self.others.iter().all(|o| o.is_empty()) {
+            return Ok(());
+        }
+        let ties = (0..self.points.len())
+            .filter(|&i| self.active[i])
+            .map(|i| {
+                let (d, b) = self.points[i];
+                (
+                    d,
+                    self.others[i].iter().map(|&(j, v)| (j, -v / b)).collect(),
+                )
+            })
+            .collect();
+        self.pcg.set_ties(ties, NAME)?;
+        self.tied.clone_from(&self.active);
+        Ok(())
     }
 
     /// One update of the active set from `u` with the thresholds `tau`, writing `λ` on the
@@ -195,7 +253,7 @@ impl IterativeStep {
         u: &[f64],
         lambda: &mut [f64],
     ) -> bool {
-        let law = Signorini::new(&self.rows, self.c, (r, offset), tau);
+        let law = Signorini::new((&self.rows, &self.others), self.c, (r, offset), tau);
         let mut changed = false;
         for (i, &point) in self.points.iter().enumerate() {
             let (l, flips) = law.verdict(i, point, self.active[i], u);
@@ -218,16 +276,18 @@ impl IterativeStep {
         (step, time): (usize, f64),
         stop: Option<(&[f64], (f64, f64))>,
     ) -> Result<()> {
+        self.tie_active()?;
         let Self {
             pcg,
             rows,
             c,
             points,
+            others,
             active,
             free,
             ..
         } = self;
-        let law = stop.map(|(offset, tau)| Signorini::new(rows, *c, (r, offset), tau));
+        let law = stop.map(|(offset, tau)| Signorini::new((rows, others), *c, (r, offset), tau));
         let changes = |u: &[f64]| {
             law.as_ref().is_some_and(|law| {
                 let mut points = points.iter().zip(active.iter()).enumerate();
@@ -281,6 +341,8 @@ pub(super) fn unsettled(method: &'static str, (step, time): (usize, f64)) -> Err
 struct Signorini<'a> {
     /// Row `d_i` of A at every point.
     rows: &'a [Vec<(usize, f64)>],
+    /// The rest of row i of B_N.
+    others: &'a [Vec<(usize, f64)>],
     c: f64,
     r: &'a [f64],
     offset: &'a [f64],
@@ -290,13 +352,14 @@ struct Signorini<'a> {
 
 impl<'a> Signorini<'a> {
     fn new(
-        rows: &'a [Vec<(usize, f64)>],
+        (rows, others): (&'a [SparseRow], &'a [SparseRow]),
         c: f64,
         (r, offset): (&'a [f64], &'a [f64]),
         (tau_g, tau_l): (f64, f64),
     ) -> Self {
         Self {
             rows,
+            others,
             c,
             r,
             offset,
@@ -306,15 +369,15 @@ impl<'a> Signorini<'a> {
     }
 
     /// Point i = `(d_i, b_i)` under `u`: its multiplier `λ_i = (r − A u)_{d_i} / (c b_i)` when
-    /// active (0 otherwise), and whether it leaves 𝒜 (`λ_i < −τ_λ`) or enters it
-    /// (`g_i = o_i − b_i u_{d_i} < −τ_g`).
+    /// active (0 otherwise: no other row has d_i), and whether it leaves 𝒜 (`λ_i < −τ_λ`) or
+    /// enters it (`g_i = o_i − b_i u_{d_i} − Σ_j b_ij u_j < −τ_g`).
     fn verdict(&self, i: usize, (d, b): (usize, f64), active: bool, u: &[f64]) -> (f64, bool) {
         if active {
-            let row: f64 = self.rows[i].iter().map(|&(j, v)| v * u[j]).sum();
-            let l = (self.r[d] - row) / (self.c * b);
+            let l = (self.r[d] - row_dot(&self.rows[i], u)) / (self.c * b);
             (l, l < -self.tau_l)
         } else {
-            (0.0, self.offset[i] - b * u[d] < -self.tau_g)
+            let gap = self.offset[i] - b * u[d] - row_dot(&self.others[i], u);
+            (0.0, gap < -self.tau_g)
         }
     }
 }
@@ -352,8 +415,16 @@ fn column(a: &SpMat, d: usize) -> Vec<(usize, f64)> {
     rows.zip(a.val_of_col(d).iter().copied()).collect()
 }
 
-/// `(d_i, b_i)` of every contact point, or why `B_N` is not nodal along axes.
-pub fn nodal_points(problem: &Problem) -> Result<Vec<(usize, f64)>> {
+/// `Σ_j v_j u_j` over a sparse row `(j, v_j)`.
+fn row_dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
+    row.iter().map(|&(j, v)| v * u[j]).sum()
+}
+
+/// Each row i of `B_N` split into its own dof and coefficient `(d_i, b_i)` (the entry of largest
+/// |b| among the dofs no other row has; the only entry of a nodal row) and the rest `(j, b_ij)`,
+/// none of which is a row's own dof (so that an active row solves for `U_{d_i}` alone: the
+/// slave's normal dof of a node-to-segment pair); or why `B_N` has no such split.
+pub fn own_dofs(problem: &Problem) -> Result<OwnDofs> {
     if problem.contact.force.is_some() {
         return Err(Error::Unsupported(
             "linear solver cg needs nodal contact, whose force rows are its gap rows (use direct)"
@@ -361,26 +432,45 @@ pub fn nodal_points(problem: &Problem) -> Result<Vec<(usize, f64)>> {
         ));
     }
     let b_n = &problem.contact.b_n;
-    let mut points: Vec<Option<(usize, f64)>> = vec![None; b_n.nrows()];
-    let mut seen = vec![false; b_n.ncols()];
-    let not_nodal = |why: &str| {
+    let unsupported = |why: String| {
         Error::Unsupported(format!(
-            "linear solver cg needs nodal contact along coordinate axes: {why} (use direct)"
+            "linear solver cg needs contact rows with a dof of their own: {why} (use direct)"
         ))
     };
-    for (i, d, b) in linalg::triplets(b_n) {
-        if points[i].is_some() {
-            return Err(not_nodal(&format!("row {i} of B_N has several entries")));
-        }
-        if seen[d] {
-            return Err(not_nodal(&format!("dof {d} is in several rows of B_N")));
-        }
-        seen[d] = true;
-        points[i] = Some((d, b));
+    let rows = linalg::rows(b_n);
+    let mut uses = vec![0_usize; b_n.ncols()];
+    for &(j, _) in rows.iter().flatten() {
+        uses[j] += 1;
     }
-    points
+    let mut own = vec![false; b_n.ncols()];
+    let mut points = Vec::with_capacity(rows.len());
+    for (i, row) in rows.iter().enumerate() {
+        let mine = row.iter().filter(|e| uses[e.0] == 1);
+        let best = mine.fold(None, |best: Option<(usize, f64)>, &(j, v)| match best {
+            Some((_, w)) if w.abs() >= v.abs() => best,
+            _ => Some((j, v)),
+        });
+        let Some((d, b)) = best else {
+            return Err(unsupported(if row.is_empty() {
+                format!("row {i} of B_N is empty")
+            } else {
+                format!("every dof of row {i} of B_N is in another row")
+            }));
+        };
+        own[d] = true;
+        points.push((d, b));
+    }
+    let others: Vec<Vec<(usize, f64)>> = rows
         .into_iter()
-        .enumerate()
-        .map(|(i, p)| p.ok_or_else(|| not_nodal(&format!("row {i} of B_N is empty"))))
-        .collect()
+        .zip(&points)
+        .map(|(row, &(d, _))| row.into_iter().filter(|e| e.0 != d).collect())
+        .collect();
+    for (i, row) in others.iter().enumerate() {
+        if let Some(&(j, _)) = row.iter().find(|e| own[e.0]) {
+            return Err(unsupported(format!(
+                "dof {j} of row {i} of B_N is another row's own dof"
+            )));
+        }
+    }
+    Ok((points, others))
 }
