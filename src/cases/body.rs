@@ -35,7 +35,7 @@ use serde::Deserialize;
 use std::path::PathBuf;
 
 /// `[material]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Material {
     /// Young's modulus E.
@@ -47,7 +47,7 @@ pub struct Material {
 }
 
 /// `[geometry]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Geometry {
     /// `box` (default), `disc` (2D) or `sphere` (3D); ignored when `[mesh] file` is given.
@@ -78,7 +78,7 @@ pub struct Geometry {
 }
 
 /// `[mesh]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeshSpec {
     /// `quad` or `triangle` (2D), `hex` or `tet` (3D) for generated meshes.
@@ -100,7 +100,7 @@ pub struct MeshSpec {
 }
 
 /// `[contact]`: which boundary faces form Γ_C.
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
     /// Gmsh physical group of the contact faces (default `contact`).

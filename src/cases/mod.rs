@@ -80,7 +80,8 @@ pub trait Case: Send + Sync {
         None
     }
     /// Each body of a multi-body case alone against the rigid plane, in its own frame (empty
-    /// for a single body): the finite-body reference of a pair adds theirs.
+    /// for a single body): the finite-body reference of a pair adds theirs. Bodies that are the
+    /// same body (a pair of twins) are the same case, listed twice.
     fn bodies(&self) -> Vec<&dyn Case> {
         Vec::new()
     }

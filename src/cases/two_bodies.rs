@@ -148,6 +148,9 @@ pub struct TwoBodies {
     kind: &'static str,
     /// Each body alone against the rigid plane (its own frame, its own Hertz reference).
     pub parts: [Body; 2],
+    /// Body 2 is body 1 (the same material, geometry, mesh and Γ_C: its image turned over), so
+    /// that alone against the plane it is body 1's case.
+    twins: bool,
     /// Body 1 (slave, above) and body 2 (master, below, turned) in the global frame.
     pub bodies: Bodies,
     /// The pair's impact against Hertz (curved body 1), built once.
@@ -370,6 +373,12 @@ impl TwoBodies {
             ],
             None => [None, None],
         };
+        let mesh2 = m.mesh.clone().unwrap_or_else(|| spec.mesh.clone());
+        let contact2 = m.contact.clone().unwrap_or_else(|| spec.contact.clone());
+        // Two bodies read from a Gmsh file are two meshes, never twins.
+        let twins = meshes.is_none()
+            && (&material2, &geometry2, &mesh2, &contact2)
+                == (&spec.material, &spec.geometry, &spec.mesh, &spec.contact);
         let parts = [
             part(
                 spec.material.clone(),
@@ -378,13 +387,7 @@ impl TwoBodies {
                 spec.contact.clone(),
                 read1,
             )?,
-            part(
-                material2.clone(),
-                geometry2,
-                m.mesh.clone().unwrap_or_else(|| spec.mesh.clone()),
-                m.contact.clone().unwrap_or_else(|| spec.contact.clone()),
-                read2,
-            )?,
+            part(material2.clone(), geometry2, mesh2, contact2, read2)?,
         ];
         for (p, field) in parts
             .iter()
@@ -419,6 +422,7 @@ impl TwoBodies {
         Ok(Self {
             kind,
             parts,
+            twins,
             bodies,
             impact,
             plane: spec.master.plane,
@@ -587,7 +591,10 @@ impl Case for TwoBodies {
         Some(&self.bodies)
     }
 
+    /// Body 2 of twins is body 1's case itself ([`crate::study::finite_body::in_series`] then
+    /// measures the law once).
     fn bodies(&self) -> Vec<&dyn Case> {
-        self.parts.iter().map(|p| p as &dyn Case).collect()
+        let second = if self.twins { 0 } else { 1 };
+        vec![&self.parts[0], &self.parts[second]]
     }
 }

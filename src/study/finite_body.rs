@@ -107,7 +107,8 @@ pub fn finite_body(case: &dyn Case) -> Result<FiniteBody> {
 /// exactly `δ₁(F) + δ₂(F)` (`(F/k*)^{2/3} = 2 (F/k₁)^{2/3}`: each body sees the contact radius
 /// and pressure of its impact on the plane); otherwise the far-field terms are taken at the
 /// bodies' own contact radii. `points` are body 1's then body 2's; `coefficient` is
-/// `(c_{f,1} + c_{f,2}) E* R*` of the pair.
+/// `(c_{f,1} + c_{f,2}) E* R*` of the pair. A body that is the same case as one before it
+/// (twins) reuses its law.
 pub fn in_series(case: &dyn Case, parts: &[&dyn Case]) -> Result<FiniteBody> {
     let impact = case.impact().filter(|i| i.hertz.dim == 3).ok_or_else(|| {
         Error::Unsupported(format!(
@@ -115,10 +116,15 @@ pub fn in_series(case: &dyn Case, parts: &[&dyn Case]) -> Result<FiniteBody> {
             case.kind()
         ))
     })?;
-    let laws = parts
-        .iter()
-        .map(|&p| finite_body(p))
-        .collect::<Result<Vec<_>>>()?;
+    // A body listed twice (twins: [`Case::bodies`]) is measured once.
+    let mut laws: Vec<FiniteBody> = Vec::with_capacity(parts.len());
+    for (i, &p) in parts.iter().enumerate() {
+        let same = parts[..i].iter().position(|&q| std::ptr::addr_eq(p, q));
+        laws.push(match same {
+            Some(k) => laws[k].clone(),
+            None => finite_body(p)?,
+        });
+    }
     let compliance: f64 = laws.iter().map(|l| l.hertz.compliance).sum();
     let half_space = impact.hertz.finite_body(impact.mass, 0.0)?;
     Ok(FiniteBody {
