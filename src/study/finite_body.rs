@@ -23,8 +23,10 @@ use super::schedule::Estimate;
 use crate::cases::{Case, Impact, Size};
 use crate::error::{Error, Result};
 use crate::exact::hertz::Hertz;
+use crate::problem::Problem;
 use crate::time::backward_euler::BackwardEuler;
-use crate::time::{LinearSolver, Scheme, Solvers};
+use crate::time::step::ContactStep;
+use crate::time::{Integrator, LinearSolver, Solvers};
 
 /// The loads of [`finite_body`], as fractions of Hertz's peak force.
 pub const LOADS: [f64; 2] = [0.5, 1.0];
@@ -83,9 +85,10 @@ pub fn finite_body(case: &dyn Case) -> Result<FiniteBody> {
     let (Some(f_max), Some(t_c)) = (half_space.peak_force(), half_space.duration()) else {
         return Err(Error::Unsupported("Hertz gives no peak force".into()));
     };
+    let mut statics = Statics::new(case, &impact, STEP_IN_DURATIONS * t_c)?;
     let points = LOADS
         .iter()
-        .map(|&x| static_point(case, &impact, x * f_max, STEP_IN_DURATIONS * t_c))
+        .map(|&x| statics.point(x * f_max))
         .collect::<Result<Vec<_>>>()?;
     // Least squares of (δ_H − δ) = c_f F.
     let compliance = points
@@ -145,45 +148,86 @@ pub fn estimate(size: Size) -> Estimate {
     }
 }
 
-/// The static state of `case` under a uniform body force of total `force` towards the plane
-/// (standard mass, nodal contact, direct solver), by backward Euler steps of `dt` from rest.
-pub fn static_point(case: &dyn Case, impact: &Impact, force: f64, dt: f64) -> Result<StaticPoint> {
-    let space = crate::space::by_name(crate::space::standard::ENTRY.name)?;
-    let mut problem = case.problem(space.as_ref())?;
-    problem.v0.fill(0.0);
-    problem.f.fill(0.0);
-    // The body force ρ b with ∫ρ b = −F e_d: the centre's weights are ∫ρ φ_i / m.
-    for &(j, w) in &impact.centre {
-        problem.f[j] = -force * w;
+/// The static solves of one body (standard mass, nodal contact, direct solver): its problem at
+/// rest and the backward Euler step matrix of `dt`, factored once for every load.
+pub struct Statics<'c> {
+    case: &'c dyn Case,
+    impact: &'c Impact,
+    problem: Problem,
+    dt: f64,
+    /// The factored step (taken while a load is solved).
+    system: Option<ContactStep>,
+}
+
+impl<'c> Statics<'c> {
+    /// The body of `case` at rest, and the step matrix of `dt` factored.
+    pub fn new(case: &'c dyn Case, impact: &'c Impact, dt: f64) -> Result<Self> {
+        let space = crate::space::by_name(crate::space::standard::ENTRY.name)?;
+        let mut problem = case.problem(space.as_ref())?;
+        problem.v0.fill(0.0);
+        problem.f.fill(0.0);
+        let system = BackwardEuler::system(&problem, dt, Self::solvers(&problem)?)?;
+        Ok(Self {
+            case,
+            impact,
+            problem,
+            dt,
+            system: Some(system),
+        })
     }
-    let solvers = Solvers {
-        contact: crate::contact::by_name("active_set", problem.contact.len())?,
-        linear: LinearSolver::Direct,
-    };
-    let mut integrator = BackwardEuler.prepare(&problem, dt, solvers)?;
-    let approach = |u: &[f64]| -impact.centre.iter().map(|&(j, w)| w * u[j]).sum::<f64>();
-    let mut last = 0.0;
-    for _ in 0..MAX_STEPS {
-        integrator.step()?;
-        let s = integrator.state();
-        let delta = approach(s.u);
-        if (delta - last).abs() <= TOLERANCE * delta.abs() {
-            let force: f64 = s.lambda.iter().sum();
-            return Ok(StaticPoint {
-                force,
-                approach: delta,
-                hertz: impact.hertz.approach(force),
-            });
+
+    /// The contact law (a fresh one for each load) and the direct solver.
+    fn solvers(problem: &Problem) -> Result<Solvers> {
+        Ok(Solvers {
+            contact: crate::contact::by_name("active_set", problem.contact.len())?,
+            linear: LinearSolver::Direct,
+        })
+    }
+
+    /// The static state under a uniform body force of total `force` towards the plane, by
+    /// backward Euler steps from rest.
+    pub fn point(&mut self, force: f64) -> Result<StaticPoint> {
+        let Self {
+            case,
+            impact,
+            problem,
+            dt,
+            system,
+        } = self;
+        // The body force ρ b with ∫ρ b = −F e_d: the centre's weights are ∫ρ φ_i / m.
+        for &(j, w) in &impact.centre {
+            problem.f[j] = -force * w;
         }
-        last = delta;
+        let mut step = system
+            .take()
+            .ok_or_else(|| Error::Internal("the static step is in use".into()))?;
+        step.restart(Self::solvers(problem)?.contact)?;
+        let mut integrator = BackwardEuler::with_system(problem, *dt, step)?;
+        let approach = |u: &[f64]| -impact.centre.iter().map(|&(j, w)| w * u[j]).sum::<f64>();
+        let mut last = 0.0;
+        for _ in 0..MAX_STEPS {
+            integrator.step()?;
+            let s = integrator.state();
+            let delta = approach(s.u);
+            if (delta - last).abs() <= TOLERANCE * delta.abs() {
+                let force: f64 = s.lambda.iter().sum();
+                *system = Some(integrator.into_system());
+                return Ok(StaticPoint {
+                    force,
+                    approach: delta,
+                    hertz: impact.hertz.approach(force),
+                });
+            }
+            last = delta;
+        }
+        Err(Error::Diverged {
+            step: MAX_STEPS,
+            time: MAX_STEPS as f64 * *dt,
+            reason: format!(
+                "{}: no static equilibrium under the body force {force:.4e} after {MAX_STEPS} \
+                 backward Euler steps of {dt:.3e} (approach {last:.6e})",
+                case.kind()
+            ),
+        })
     }
-    Err(Error::Diverged {
-        step: MAX_STEPS,
-        time: MAX_STEPS as f64 * dt,
-        reason: format!(
-            "{}: no static equilibrium under the body force {force:.4e} after {MAX_STEPS} \
-             backward Euler steps of {dt:.3e} (approach {last:.6e})",
-            case.kind()
-        ),
-    })
 }

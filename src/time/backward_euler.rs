@@ -49,20 +49,51 @@ impl Scheme for BackwardEuler {
         dt: f64,
         contact: super::scheme::Solvers,
     ) -> Result<Box<dyn Integrator + 'p>> {
-        let dt = time_step(problem, dt)?;
-        let system = ContactStep::new(problem, (1.0, dt * dt), dt * dt, contact)?;
-        let s = Stepper::new(problem, dt, system)?;
-        Ok(Box::new(BackwardEulerIntegrator {
-            y: vec![0.0; s.w.len()],
-            s,
-        }))
+        let system = Self::system(problem, dt, contact)?;
+        Ok(Box::new(Self::with_system(problem, dt, system)?))
     }
 }
 
-struct BackwardEulerIntegrator<'p> {
+impl BackwardEuler {
+    /// The step system `M + Δt² K` of `problem` with its contact coupling (factored, for a
+    /// direct solver).
+    pub fn system(
+        problem: &Problem,
+        dt: f64,
+        contact: super::scheme::Solvers,
+    ) -> Result<ContactStep> {
+        let dt = time_step(problem, dt)?;
+        ContactStep::new(problem, (1.0, dt * dt), dt * dt, contact)
+    }
+
+    /// The integrator from the problem's initial state with the step system of
+    /// [`BackwardEuler::system`] for this Δt, built for a problem with the same matrices and
+    /// contact (its load and initial state may differ: several static solves share a factor).
+    pub fn with_system(
+        problem: &Problem,
+        dt: f64,
+        system: ContactStep,
+    ) -> Result<BackwardEulerIntegrator<'_>> {
+        let s = Stepper::new(problem, time_step(problem, dt)?, system)?;
+        Ok(BackwardEulerIntegrator {
+            y: vec![0.0; s.w.len()],
+            s,
+        })
+    }
+}
+
+/// Backward Euler's integrator ([`BackwardEuler::with_system`]).
+pub struct BackwardEulerIntegrator<'p> {
     s: Stepper<'p>,
     /// `wₙ + Δt vₙ`.
     y: Vec<f64>,
+}
+
+impl BackwardEulerIntegrator<'_> {
+    /// Its step system, for another integrator ([`BackwardEuler::with_system`]).
+    pub fn into_system(self) -> ContactStep {
+        self.s.system
+    }
 }
 
 impl Integrator for BackwardEulerIntegrator<'_> {

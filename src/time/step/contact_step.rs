@@ -157,6 +157,20 @@ impl ContactStep {
         })
     }
 
+    /// The direct step as built, its factor kept, with the law `solver` ([`DirectStep::restart`]);
+    /// the cg steps have no factor to keep and are refused.
+    pub fn restart(&mut self, solver: Box<dyn Solver>) -> Result<()> {
+        match self {
+            Self::Direct(s) => {
+                s.restart(solver);
+                Ok(())
+            }
+            Self::Iterative(_) | Self::Compliant(_) => Err(Error::Unsupported(
+                "a cg step is built anew, not restarted".into(),
+            )),
+        }
+    }
+
     /// Solves `A X = r` without contact.
     pub fn solve_free(&mut self, r: &[f64], u: &mut [f64], w: &mut [f64]) -> Result<()> {
         match self {

@@ -165,6 +165,17 @@ impl DirectStep {
         }
     }
 
+    /// Forgets the contact columns formed and takes the law `solver`: the step as
+    /// [`DirectStep::new`] built it, its factor kept (a problem with another load or initial
+    /// state and the same matrices and contact).
+    pub fn restart(&mut self, solver: Box<dyn Solver>) {
+        self.z.fill(None);
+        self.stored = 0;
+        self.d.fill(0.0);
+        self.formed.fill(false);
+        self.solver = Some(solver);
+    }
+
     /// Solves `A X = r` without contact (X: displacement-like unknowns `u`, inertial `w`).
     pub fn solve_free(&mut self, r: &[f64], u: &mut [f64], w: &mut [f64]) {
         self.op.solve(r, u, w);
