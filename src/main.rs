@@ -128,6 +128,10 @@ enum Command {
         /// and pairs; 0: frictionless), replacing the case's `[contact] friction`.
         #[arg(long, allow_negative_numbers = true)]
         friction: Option<f64>,
+        /// Incidence θ in degrees from the normal of a body case's initial velocity, its speed
+        /// kept (`velocity = −V cos θ`, `tangential_velocity = V sin θ`; the oblique impact).
+        #[arg(long, allow_negative_numbers = true)]
+        incidence: Option<f64>,
         /// Output directory.
         #[arg(long, default_value = "out")]
         out: PathBuf,
@@ -290,6 +294,7 @@ fn main_result(cli: Cli) -> Result<()> {
             dt,
             t_end,
             friction,
+            incidence,
             out,
             vtu,
             vtu_every,
@@ -305,6 +310,7 @@ fn main_result(cli: Cli) -> Result<()> {
                 dt,
                 t_end,
                 friction,
+                incidence,
             };
             let path = case;
             let case = cases::load(&path, &overrides)?;

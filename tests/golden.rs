@@ -78,6 +78,12 @@ fn snapshot_text(r: &RunRecord) -> String {
                 ("friction_balance", m.friction_balance),
                 ("friction_work_min_step", m.friction_work_min_step),
             ],
+            vec![
+                ("tangential_restitution", m.tangential_restitution),
+                ("rebound_spin", m.rebound_spin),
+                ("normal_impulse", m.normal_impulse),
+                ("tangential_impulse", m.tangential_impulse),
+            ],
         ];
         for group in groups.iter().filter(|g| g.iter().any(|x| x.1.is_some())) {
             lines.extend(group.iter().map(|(k, v)| format!("{k}: {}", opt(*v))));
@@ -113,7 +119,8 @@ fn summary_metrics_of_every_combination_are_unchanged() {
     // bar1d 6 spaces × 15 schemes and 3 spaces × 4 contact formulations, bar_flight 6 × 15,
     // block2d 5 × 2 and 3 × 9, block3d 5 × 1, spring_mass 7 schemes, hertz2d 3 spaces, hertz3d
     // 2 + 1, two_bars and two_bars_unequal 5 × 8 each, slide2d 5 × 6 with friction and 5 × 4
-    // without, slide3d 4 × 5 and 4 × 4, two_discs 5 × 6, two_spheres 4 × 4.
+    // without, slide3d 4 × 5 and 4 × 4, two_discs 5 × 6, two_spheres 4 × 4, oblique3d 2 × 4,
+    // roll2d 1 × 1 rolling and 1 × 1 sliding.
     assert_eq!(
         count,
         6 * 15
@@ -131,7 +138,9 @@ fn summary_metrics_of_every_combination_are_unchanged() {
             + 4 * 5
             + 4 * 4
             + 5 * 6
-            + 4 * 4,
+            + 4 * 4
+            + 2 * 4
+            + 2,
         "one snapshot per case × space × scheme"
     );
 }

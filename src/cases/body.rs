@@ -9,7 +9,10 @@
 //!   friction: it rolls when μ ≥ tan α / 3 ([`crate::exact::roll`]);
 //! - `slide2d` / `slide3d`: a box resting on the plane under gravity, launched along the first
 //!   axis (`tangential_velocity`), with Coulomb friction (`[contact] friction = μ`): its centre
-//!   of mass against the rigid-body slide ([`crate::exact::slide`]).
+//!   of mass against the rigid-body slide ([`crate::exact::slide`]);
+//! - `oblique3d`: hertz3d's sphere thrown at the plane at an incidence θ with friction: its
+//!   tangential restitution and rebound spin against the rigid-body limits and Chung & Ooi's
+//!   curve ([`crate::exact::oblique`]); `[oblique]` lists the report's incidences.
 //!
 //! The case holds only physics: material, geometry (or a Gmsh file), initial state, the obstacle;
 //! [`Discretisation`] turns it into matrices. Isotropic linear elasticity, no Dirichlet condition.
@@ -18,7 +21,7 @@
 //! adds the tangential rows of [`Discretisation::friction`]. Initial state: undeformed, uniform vertical
 //! velocity; optional gravity.
 
-use super::sweep::SweepSpec;
+use super::sweep::{Refinement, SweepSpec};
 use super::{Case, FieldError, Overrides, RunSpec, Size};
 use crate::element::reference::{RefElement, Shape};
 use crate::error::{positive, Error, Result};
@@ -114,6 +117,59 @@ pub struct ContactSpec {
     pub friction: Option<f64>,
 }
 
+/// `[oblique]`: the report's oblique-impact study, one run per incidence (`oblique3d`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObliqueSpec {
+    /// Incidences θ in degrees from the normal (the full report), each in [0, 90).
+    pub angles: Vec<f64>,
+    /// The incidences of `report --quick`.
+    pub quick_angles: Vec<f64>,
+    /// Mesh and time step of the full report.
+    pub level: Refinement,
+    /// Mesh and time step of `report --quick`.
+    pub quick_level: Refinement,
+}
+
+impl ObliqueSpec {
+    /// The incidences (degrees) and the level of the report (`quick` or not).
+    pub fn study(&self, quick: bool) -> (&[f64], Refinement) {
+        if quick {
+            (&self.quick_angles, self.quick_level)
+        } else {
+            (&self.angles, self.level)
+        }
+    }
+
+    fn validate(&self) -> Result<()> {
+        for &a in self.angles.iter().chain(&self.quick_angles) {
+            if !(0.0..90.0).contains(&a) {
+                return Err(Error::invalid("oblique.angles", a, "degrees in [0, 90)"));
+            }
+        }
+        positive("oblique.level.dt", self.level.dt)?;
+        positive("oblique.quick_level.dt", self.quick_level.dt)?;
+        Ok(())
+    }
+}
+
+/// `g` with its initial velocity turned to the incidence θ (degrees from the normal, towards
+/// +e_1), its speed `V = |(velocity, tangential_velocity)|` kept.
+fn incline(g: &mut Geometry, theta: f64) -> Result<()> {
+    let speed = g.velocity.hypot(g.tangential_velocity);
+    if !(0.0..90.0).contains(&theta) || speed == 0.0 {
+        return Err(Error::invalid(
+            "--incidence",
+            theta,
+            "degrees in [0, 90), for a body with an initial velocity",
+        ));
+    }
+    let (s, c) = theta.to_radians().sin_cos();
+    g.velocity = -speed * c;
+    g.tangential_velocity = speed * s;
+    Ok(())
+}
+
 fn default_shape() -> String {
     "box".into()
 }
@@ -134,6 +190,7 @@ pub const KINDS: &[(&str, usize)] = &[
     ("slide2d", 2),
     ("slide3d", 3),
     ("roll2d", 2),
+    ("oblique3d", 3),
 ];
 
 /// The whole case file of an elastic body.
@@ -161,6 +218,9 @@ pub struct BodySpec {
     /// Time histories for the report.
     #[serde(default)]
     pub history: Vec<super::sweep::HistorySpec>,
+    /// The report's oblique-impact study (`oblique3d`).
+    #[serde(default)]
+    pub oblique: Option<ObliqueSpec>,
 }
 
 /// A validated body case.
@@ -181,6 +241,19 @@ pub struct Body {
     sweeps: Vec<SweepSpec>,
     /// Time histories for the report.
     pub history: Vec<super::sweep::HistorySpec>,
+    /// The report's oblique-impact study.
+    pub oblique: Option<ObliqueStudy>,
+}
+
+/// The oblique-impact study of an `oblique3d` case: `[oblique]` with the material's ν and μ.
+#[derive(Debug, Clone)]
+pub struct ObliqueStudy {
+    /// `[oblique]`.
+    pub spec: ObliqueSpec,
+    /// Friction coefficient μ.
+    pub mu: f64,
+    /// Poisson's ratio ν.
+    pub poisson: f64,
 }
 
 /// Estimated bytes of the assembly: the triplets of one global matrix (24 B per entry of every
@@ -412,7 +485,21 @@ impl Body {
         };
         let m = &spec.material;
         check_material(m)?;
-        let g = &spec.geometry;
+        let mut spec = spec;
+        if let Some(theta) = o.incidence {
+            incline(&mut spec.geometry, theta)?;
+        }
+        if let Some(oblique) = &spec.oblique {
+            if kind != "oblique3d" {
+                return Err(Error::invalid(
+                    "oblique",
+                    kind,
+                    "the oblique-impact study is for oblique3d",
+                ));
+            }
+            oblique.validate()?;
+        }
+        let (m, g) = (&spec.material, &spec.geometry);
         crate::error::finite("geometry.velocity", g.velocity)?;
         crate::error::finite("geometry.tangential_velocity", g.tangential_velocity)?;
         let friction = match o.friction.or(spec.contact.friction) {
@@ -461,6 +548,13 @@ impl Body {
         } else {
             None
         };
+        if kind == "oblique3d" && (g.shape != "sphere" || g.velocity >= 0.0 || g.gravity != 0.0) {
+            return Err(Error::invalid(
+                "geometry.velocity",
+                g.velocity,
+                "an oblique impact is a sphere thrown at the plane (velocity < 0), without gravity",
+            ));
+        }
         let slide = if kind.starts_with("slide") {
             if g.velocity != 0.0 || g.lift != 0.0 {
                 return Err(Error::invalid(
@@ -497,6 +591,11 @@ impl Body {
             run,
             sweeps: spec.sweep,
             history: spec.history,
+            oblique: spec.oblique.map(|spec| ObliqueStudy {
+                spec,
+                mu: friction,
+                poisson: m.poisson,
+            }),
         })
     }
 }
@@ -590,6 +689,40 @@ impl Case for Body {
 
     fn slide(&self) -> Option<Slide> {
         self.slide
+    }
+
+    fn spin(&self) -> Option<super::Spin> {
+        let (fem, g) = (&self.fem, &self.geometry);
+        if self.friction == 0.0 || g.shape == "box" {
+            return None;
+        }
+        let radius = g.radius?;
+        let d = fem.dim();
+        let unit = |k: usize| std::array::from_fn(|c| if c == k { 1.0 } else { 0.0 });
+        Some(super::Spin {
+            normal: fem.interpolate(|_| unit(d - 1)),
+            rotation: fem.interpolate(|x| {
+                std::array::from_fn(|c| match c {
+                    0 => x[d - 1] - radius,
+                    c if c == d - 1 => -x[0],
+                    _ => 0.0,
+                })
+            }),
+            radius,
+        })
+    }
+
+    fn oblique(&self) -> Option<&ObliqueStudy> {
+        self.oblique.as_ref()
+    }
+
+    fn roll(&self) -> Option<crate::exact::roll::Roll> {
+        let g = &self.geometry;
+        (self.kind == "roll2d").then_some(crate::exact::roll::Roll {
+            gravity: g.gravity,
+            slope: g.slope,
+            mu: self.friction,
+        })
     }
 
     fn impact(&self) -> Option<super::Impact> {

@@ -79,12 +79,41 @@ pub trait Case: Send + Sync {
     fn multi_body(&self) -> Option<&crate::fem::bodies::Bodies> {
         None
     }
+    /// The rigid motions of a disc or sphere with friction whose velocities a run records
+    /// (`com_velocity_n`, `angular_velocity`), if any.
+    fn spin(&self) -> Option<Spin> {
+        None
+    }
+    /// The incidences of the report's oblique-impact study (`[oblique]` of a case file), if any.
+    fn oblique(&self) -> Option<&body::ObliqueStudy> {
+        None
+    }
+    /// The rigid disc on the slope it is compared with (`roll2d`), if any.
+    fn roll(&self) -> Option<crate::exact::roll::Roll> {
+        None
+    }
     /// Each body of a multi-body case alone against the rigid plane, in its own frame (empty
     /// for a single body): the finite-body reference of a pair adds theirs. Bodies that are the
     /// same body (a pair of twins) are the same case, listed twice.
     fn bodies(&self) -> Vec<&dyn Case> {
         Vec::new()
     }
+}
+
+/// The rigid motions of a disc or sphere rolling or bouncing on the plane with friction: the
+/// run records the centre of mass's normal velocity `(M̃1_d)ᵀV / 1_dᵀM̃1_d` and the angular
+/// velocity `ω = (M̃φ)ᵀV / φᵀM̃φ`, with φ made M̃-orthogonal to the translations (the angular
+/// momentum about the centre of mass over the moment of inertia, both of the space's own mass).
+#[derive(Debug, Clone)]
+pub struct Spin {
+    /// The unit translation along the plane's normal e_d (dof layout of U).
+    pub normal: Vec<f64>,
+    /// The infinitesimal rotation about the centre `c = (0, …, R)` that rolls the body along
+    /// +e_1: `φ(x) = (x_d − R) e_1 − x_1 e_d` (a body rolling forwards at ω has `V = ω φ` about
+    /// its centre; its contact point moves at `v_t − ω R`).
+    pub rotation: Vec<f64>,
+    /// Radius R.
+    pub radius: f64,
 }
 
 /// The data of an impact compared with Hertz theory ([`crate::exact::hertz`]).
@@ -379,6 +408,9 @@ pub struct Overrides {
     /// `--friction`: the Coulomb coefficient μ of a 2D/3D body case or pair (its `[contact]
     /// friction`).
     pub friction: Option<f64>,
+    /// `--incidence`: the angle θ (degrees, from the normal) of a body case's initial velocity,
+    /// its speed kept: `velocity = −V cos θ`, `tangential_velocity = V sin θ`.
+    pub incidence: Option<f64>,
 }
 
 impl Overrides {
@@ -448,6 +480,7 @@ pub const CASES: &[&str] = &[
     "slide2d",
     "slide3d",
     "roll2d",
+    "oblique3d",
     "two_bars",
     "two_discs",
     "two_spheres",
@@ -504,7 +537,7 @@ impl CaseFile {
             "bar1d" => Spec::Bar1d(spec_from_str(&text, path)?),
             "bar_flight" => Spec::BarFlight(spec_from_str(&text, path)?),
             "block2d" | "block3d" | "hertz2d" | "hertz3d" | "disc2d" | "slide2d" | "slide3d"
-            | "roll2d" => {
+            | "roll2d" | "oblique3d" => {
                 let mut spec: body::BodySpec = spec_from_str(&text, path)?;
                 beside(&mut spec.mesh.file, path);
                 Spec::Body(Box::new(spec))
@@ -566,13 +599,24 @@ impl CaseFile {
     pub fn build(&self, overrides: &Overrides) -> Result<Box<dyn Case>> {
         let o = overrides;
         let (refused, why): (&[&str], &str) = match self.spec {
-            Spec::Body(_) | Spec::TwoBodies(_) => (&[], ""),
+            Spec::Body(_) => (&[], ""),
+            Spec::TwoBodies(_) => (
+                &["--incidence"],
+                "applies to one sphere: two bodies meet head-on along e_d",
+            ),
             Spec::Bar1d(_) | Spec::BarFlight(_) | Spec::TwoBars(_) => (
-                &["--mesh", "--cells", "--friction"],
+                &["--mesh", "--cells", "--friction", "--incidence"],
                 "applies to the 2D/3D body cases only",
             ),
             Spec::SpringMass(_) => (
-                &["--mesh", "--cells", "--elements", "--degree", "--friction"],
+                &[
+                    "--mesh",
+                    "--cells",
+                    "--elements",
+                    "--degree",
+                    "--friction",
+                    "--incidence",
+                ],
                 "applies to meshed cases only: spring_mass has one dof",
             ),
         };
@@ -582,6 +626,7 @@ impl CaseFile {
             ("--elements", o.elements.map(|n| n.to_string())),
             ("--degree", o.degree.map(|n| n.to_string())),
             ("--friction", o.friction.map(|m| m.to_string())),
+            ("--incidence", o.incidence.map(|m| m.to_string())),
         ];
         if let Some((flag, value)) = given
             .into_iter()

@@ -209,5 +209,6 @@ fn combination(
         dt: Some(level.dt),
         t_end,
         friction: None,
+        incidence: None,
     }
 }

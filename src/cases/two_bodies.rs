@@ -362,6 +362,7 @@ impl TwoBodies {
                 run: spec.run.clone(),
                 sweep: Vec::new(),
                 history: Vec::new(),
+                oblique: None,
             };
             Body::with_mesh(body, o, read)
         };

@@ -942,10 +942,15 @@ fn draw_triangle<DB: DrawingBackend>(
 
 /// The axes of a plot against time over the series that did not diverge.
 fn time_axes(series: &[Series], y_label: &str) -> Option<(Axis, Axis)> {
+    linear_axes(series, ("time t", y_label))
+}
+
+/// Linear axes `(x_label, y_label)` over the series that did not diverge.
+fn linear_axes(series: &[Series], (x_label, y_label): (&str, &str)) -> Option<(Axis, Axis)> {
     let (x0, x1, y0, y1) = linear_range(series)?;
     Some((
         Axis {
-            label: "time t".into(),
+            label: x_label.into(),
             lo: x0,
             hi: x1,
             log: false,
@@ -961,7 +966,33 @@ fn time_axes(series: &[Series], y_label: &str) -> Option<(Axis, Axis)> {
 
 /// Line plot of several series against time (`<path>` PNG and SVG), legend beside it.
 pub fn time_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> Result<()> {
-    let (x, y) = time_axes(series, y_label).ok_or_else(|| plot_err(path, "nothing to plot"))?;
+    linear_plot(path, title, ("time t", y_label), series, TIME_EXTRAS)
+}
+
+/// Plot of a few points per series on linear axes `(x_label, y_label)`, every point marked
+/// (`<path>` PNG and SVG), legend beside it.
+pub fn xy_plot(path: &Path, title: &str, labels: (&str, &str), series: &[Series]) -> Result<()> {
+    linear_plot(
+        path,
+        title,
+        labels,
+        series,
+        Extras {
+            width: 1,
+            marker: 5,
+            spread: 0,
+        },
+    )
+}
+
+fn linear_plot(
+    path: &Path,
+    title: &str,
+    labels: (&str, &str),
+    series: &[Series],
+    extras: Extras,
+) -> Result<()> {
+    let (x, y) = linear_axes(series, labels).ok_or_else(|| plot_err(path, "nothing to plot"))?;
     save(
         path,
         &Chart {
@@ -969,7 +1000,7 @@ pub fn time_plot(path: &Path, title: &str, y_label: &str, series: &[Series]) -> 
             series,
             x,
             y,
-            extras: TIME_EXTRAS,
+            extras,
             height: 560,
             triangle: None,
             note: None,

@@ -57,6 +57,10 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("stop_distance", "case (length)", "slide cases with friction: the distance the centre of mass travels over the run (trapezoidal rule on its velocity; the rigid block stops after `v₀²/(2μg)`)"),
     ("friction_balance", "1", "runs with friction: `max_n |E_n + W_f,n − E_0| / |E_0|`, the energy balance with the friction work (0 for a scheme that conserves energy up to what friction dissipates)"),
     ("friction_work_min_step", "case (energy)", "runs with friction: `min_n (W_f,n+1 − W_f,n)`, the least friction work of a step (negative: friction gave energy back)"),
+    ("tangential_restitution", "1", "oblique impact (a sphere with friction, released by the final time): `e_t = v_t(T) / v_t(0)`, the centre of mass's tangential velocity after over before"),
+    ("rebound_spin", "case (1/time)", "oblique impact: the angular velocity ω at the final time (`angular_velocity`; positive: rolling forwards)"),
+    ("normal_impulse", "case (mass·length/time)", "oblique impact: `J_n = m_n (v_n(T) − v_n(0))`, the impulse of the contact forces along the normal from the momentum they changed (`m_n = 1ᵀM̃1` along the normal)"),
+    ("tangential_impulse", "case (mass·length/time)", "oblique impact: `J_t = m_t (v_t(T) − v_t(0))` along the first tangent (negative: against the motion); `|J_t| = μ J_n` when the contact slides throughout"),
     // orders.csv
     ("quantity", "—", "the metric column fitted"),
     ("order", "1", "least-squares slope of ln(error) against ln(h) (ln(dt) for the 0D spring) over the usable levels (status `ok`, error finite and > 0); read it with `verdict`"),
@@ -80,6 +84,8 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("v_contact_master", "case (length/time)", "multi-body cases: velocity of that point, `Σ N_k v_k,d` (inertial velocity dofs; the H_h vertices for the singular dynamic method)"),
     ("com_velocity_t", "case (length/time)", "velocity of the centre of mass along the first tangent of the plane, `(M̃1)ᵀV / 1ᵀM̃1` with the space's own mass (runs with friction)"),
     ("friction_work", "case (energy)", "work dissipated by Coulomb friction so far, `W_f = Σ −r_T · u_T ≥ 0` on the slip each scheme measures (runs with friction); `energy + friction_work` is E(0) for an energy-conserving scheme"),
+    ("com_velocity_n", "case (length/time)", "velocity of the centre of mass along the plane's normal, `(M̃1)ᵀV / 1ᵀM̃1` (a disc or sphere with friction)"),
+    ("angular_velocity", "case (1/time)", "angular velocity ω of a disc or sphere with friction, `(M̃φ)ᵀV / φᵀM̃φ` with φ the rotation rolling it along the first tangent made M̃-orthogonal to the translations (angular momentum about the centre of mass over the moment of inertia, the space's own mass); the contact point slips at `com_velocity_t − R ω`"),
     ("u_contact_exact", "case (length)", "exact `u_contact`"),
     ("sigma_contact_exact", "case (stress)", "exact `sigma_contact`"),
     ("energy_exact", "case (energy)", "exact `energy`"),
@@ -109,6 +115,7 @@ fn files() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
     timeseries.extend(["approach", "momentum"]);
     timeseries.extend(trajectory::MASTER_COLUMNS);
     timeseries.extend(trajectory::FRICTION_COLUMNS);
+    timeseries.extend(trajectory::SPIN_COLUMNS);
     timeseries.extend(trajectory::EXACT_COLUMNS);
     vec![
         (
@@ -148,7 +155,7 @@ fn files() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
         ),
         (
             "timeseries.csv (dyncontact run)",
-            "one row per sample (every step and t = 0); `approach` for curved bodies, `momentum` for two-body cases, `com_velocity_t` and `friction_work` for runs with friction, the `_exact` columns when the case has an exact solution",
+            "one row per sample (every step and t = 0); `approach` for curved bodies, `momentum` for two-body cases, `com_velocity_t` and `friction_work` for runs with friction, `com_velocity_n` and `angular_velocity` for a disc or sphere with friction, the `_exact` columns when the case has an exact solution",
             timeseries,
         ),
         (

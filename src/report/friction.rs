@@ -268,10 +268,20 @@ fn conclusions(runs: &[&RunRecord], slide: Option<&Slide>) -> Vec<Rich> {
     out
 }
 
-/// The section: per friction sweep its table and conclusions, then its figures.
-pub fn section(d: &mut Doc, records: &[RunRecord], slides: &Slides, figures: &[Figure]) {
-    let pairs = friction_sweeps(records);
-    if pairs.is_empty() {
+/// The section: per friction sweep of a slide case its table and conclusions, the oblique
+/// impact's and the rolling disc's studies ([`super::oblique`], [`super::roll`]), then the
+/// figures.
+pub fn section(
+    d: &mut Doc,
+    records: &[RunRecord],
+    (slides, studies): (&Slides, &[Block]),
+    figures: &[Figure],
+) {
+    let pairs: Vec<(String, String)> = friction_sweeps(records)
+        .into_iter()
+        .filter(|p| slides.iter().any(|s| s.0 == p.0))
+        .collect();
+    if pairs.is_empty() && studies.is_empty() {
         return;
     }
     d.heading_id(2, SECTION, "Friction");
@@ -292,6 +302,9 @@ pub fn section(d: &mut Doc, records: &[RunRecord], slides: &Slides, figures: &[F
         d.para(format!("**{case}**, sweep `{sweep}`."));
         table(d, records, &runs, slide);
         d.push(Block::List(conclusions(&runs, slide)));
+    }
+    for block in studies {
+        d.push(block.clone());
     }
     for f in figures.iter().filter(|f| f.case == SECTION) {
         d.figure(f.clone());

@@ -27,6 +27,9 @@ pub struct Contents<'a> {
     pub peers: &'a [Agreement],
     /// The rigid slide of each case kind with one (the "Friction" section's reference).
     pub slides: &'a super::friction::Slides,
+    /// The "Friction" section's oblique-impact and rolling-disc studies (their tables and
+    /// conclusions; their figures are in `figures`).
+    pub studies: &'a [Block],
     /// The cases (their sections, in this order).
     pub cases: &'a [CaseEntry],
     /// `report --quick`.
@@ -60,7 +63,7 @@ pub fn document(c: &Contents<'_>, files: &[String]) -> Doc {
         case_section(&mut d, c, case);
     }
     super::two_bodies::section(&mut d, c.records, c.figures);
-    super::friction::section(&mut d, c.records, c.slides, c.figures);
+    super::friction::section(&mut d, c.records, (c.slides, c.studies), c.figures);
     failures_section(&mut d, c.records);
     cross_code_section(&mut d, c.peers);
     files_section(&mut d, files);

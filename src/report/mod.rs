@@ -20,7 +20,9 @@ pub mod findings;
 pub mod friction;
 pub mod impact;
 pub mod index;
+pub mod oblique;
 pub mod quantity;
+pub mod roll;
 pub mod schemes_compared;
 pub mod style;
 pub mod two_bodies;
@@ -168,11 +170,17 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
     journal::rewrite(out, "journal.csv", &all, &records)?;
     let mut figures = Vec::new();
     let mut slides = Vec::new();
+    let mut studies = Vec::new();
     for (f, per_case) in files.iter().zip(per_case) {
         let case = f.build(&Default::default())?;
         if let Some(s) = case.slide() {
             slides.push((case.kind().to_string(), s));
             figures.extend(friction::figures(f, out, opts.quick)?);
+        }
+        for study in [oblique::study, roll::study] {
+            let (f, blocks) = study(f, out, opts.quick)?;
+            figures.extend(f);
+            studies.extend(blocks);
         }
         figures.extend(per_case?);
     }
@@ -190,7 +198,7 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
         out,
         &records,
         figures,
-        (&agreements, &slides),
+        (&agreements, (&slides, &studies)),
         (&cases, opts.quick),
     )?;
     Ok(records)
@@ -273,7 +281,13 @@ pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
             file: None,
         })
         .collect();
-    write(out, &records, Vec::new(), (&[], &[]), (&cases, false))?;
+    write(
+        out,
+        &records,
+        Vec::new(),
+        (&[], (&[], &[])),
+        (&cases, false),
+    )?;
     Ok(records)
 }
 
@@ -281,7 +295,7 @@ fn write(
     out: &Path,
     records: &[RunRecord],
     mut figures: Vec<Figure>,
-    (peers, slides): (&[Agreement], &friction::Slides),
+    (peers, (slides, studies)): (&[Agreement], (&friction::Slides, &[doc::Block])),
     (cases, quick): (&[CaseEntry], bool),
 ) -> Result<()> {
     write_records(&out.join("summary.csv"), records, false)?;
@@ -299,6 +313,7 @@ fn write(
             figures: &figures,
             peers,
             slides,
+            studies,
             cases,
             quick,
         },

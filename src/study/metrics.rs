@@ -75,6 +75,17 @@ pub struct Metrics {
     /// Multi-body cases: `max_n |P_n − P_0|`, P the total linear momentum `(M̃1_d)ᵀV` along the
     /// line of impact (an invariant: no external force, equal and opposite contact forces).
     pub momentum_drift: Option<f64>,
+    /// Oblique impact (a sphere with friction, released): `e_t = v_t(T)/v_t(0)`, the centre of
+    /// mass's tangential restitution.
+    pub tangential_restitution: Option<f64>,
+    /// Oblique impact: the rebound angular velocity `ω(T)` (positive: rolling forwards).
+    pub rebound_spin: Option<f64>,
+    /// Oblique impact: the normal impulse of the contact forces, `J_n = m_n (v_n(T) − v_n(0))`
+    /// (momentum balance: no other force acts; `m_n = 1_dᵀM̃1_d`).
+    pub normal_impulse: Option<f64>,
+    /// Oblique impact: the tangential impulse `J_t = m_t (v_t(T) − v_t(0))` (negative: against
+    /// the motion; `m_t = 1_1ᵀM̃1_1`).
+    pub tangential_impulse: Option<f64>,
 }
 
 /// One metric column of `summary.csv`: its name, and how to read and set it (`None` is an empty
@@ -132,6 +143,10 @@ pub const METRIC_COLUMNS: &[MetricColumn] = metric_columns![
     friction_balance: optional,
     friction_work_min_step: optional,
     momentum_drift: optional,
+    tangential_restitution: optional,
+    rebound_spin: optional,
+    normal_impulse: optional,
+    tangential_impulse: optional,
 ];
 
 /// The energy drift to read first, and the other one ([`Metrics::drift`]).
@@ -354,6 +369,31 @@ pub fn friction(m: &mut Metrics, rows: &[Row], slide: Option<&Slide>) {
     );
 }
 
+/// The oblique-impact metrics of a sphere thrown at the plane with friction (rows with
+/// `friction` and `spin`, moving towards the plane at t = 0 and released at the last two
+/// samples; nothing otherwise): `e_t`, `ω'`, the impulses from the momentum the contact changed
+/// (`masses = (m_t, m_n)`), and the normal restitution `−v_n(T)/v_n(0)` of the centre of mass
+/// (replaces the probe's).
+pub fn oblique(m: &mut Metrics, rows: &[Row], (m_t, m_n): (f64, f64)) {
+    let n = rows.len();
+    let (Some(first), Some(last)) = (rows.first(), rows.last()) else {
+        return;
+    };
+    let (Some((vt0, _)), Some((vn0, _)), Some((vt, _)), Some((vn, w))) =
+        (first.friction, first.spin, last.friction, last.spin)
+    else {
+        return;
+    };
+    if vn0 >= 0.0 || n < 2 || rows[n - 2].force_contact != 0.0 || last.force_contact != 0.0 {
+        return;
+    }
+    m.restitution_eff = Some(-vn / vn0);
+    m.tangential_restitution = (vt0 != 0.0).then(|| vt / vt0);
+    m.rebound_spin = Some(w);
+    m.normal_impulse = Some(m_n * (vn - vn0));
+    m.tangential_impulse = Some(m_t * (vt - vt0));
+}
+
 /// A block sliding slower than this fraction of v₀ has stopped ([`Metrics::stop_time`]).
 pub const STOPPED: f64 = 0.01;
 
@@ -495,6 +535,7 @@ mod tests {
                 momentum: None,
                 master: None,
                 friction: None,
+                spin: None,
                 exact: Some((0.0, 0.0, 0.0)),
             })
             .collect()

@@ -183,115 +183,123 @@ pub fn run_with_output(
         .prepare(&problem, spec.dt, solvers)
         .map_err(|e| formulation.explain(e))?;
     let mut bar = Progress::new(progress, steps);
-    let (rows, field_errors, mut peak, iterations) = std::thread::scope(|scope| -> Result<_> {
-        let (tx, rx) = mpsc::sync_channel::<Snapshot>(SAMPLE_QUEUE);
-        let (recycle, recycled) = mpsc::channel();
-        let (problem, field) = (&problem, &field);
-        let mut probe = Probe {
-            b_row: problem.contact.gap_row(problem.probe.contact),
-            energy: problem.energy_form(),
-            centre: impact.as_ref().map(|i| i.centre.clone()),
-            translation: case.momentum().map(|t| (t, vec![0.0; problem.n()])),
-            master: bodies.map(|b| b.master_probe()).transpose()?.map(|w| {
-                w.into_iter()
-                    .map(|(j, n)| (j, problem.inertia.velocity_dof(j), n))
-                    .collect()
-            }),
-            slide: friction.then(|| slide_direction(problem)),
-        };
-        let sampler = scope.spawn(move || -> Result<_> {
-            let mut rows: Vec<Row> = Vec::with_capacity(steps + 1);
-            let mut errors = Vec::with_capacity(if field.is_some() { steps + 1 } else { 0 });
-            // The state at the sample of largest total force (impact cases).
-            let (mut peak, mut f_peak) = (Peak::default(), 0.0);
-            for (index, snap) in rx.into_iter().enumerate() {
-                let s = snap.state();
-                if let Some(out) = vtu.as_mut() {
-                    match bodies {
-                        Some(b) => {
-                            let split = b.split(&shares, s.u, s.v, s.lambda);
-                            let each: Vec<Fields> = split
-                                .iter()
-                                .map(|f| Fields {
+    let (rows, field_errors, mut peak, iterations, masses) =
+        std::thread::scope(|scope| -> Result<_> {
+            let (tx, rx) = mpsc::sync_channel::<Snapshot>(SAMPLE_QUEUE);
+            let (recycle, recycled) = mpsc::channel();
+            let (problem, field) = (&problem, &field);
+            let mut probe = Probe {
+                b_row: problem.contact.gap_row(problem.probe.contact),
+                energy: problem.energy_form(),
+                centre: impact.as_ref().map(|i| i.centre.clone()),
+                translation: case.momentum().map(|t| (t, vec![0.0; problem.n()])),
+                master: bodies.map(|b| b.master_probe()).transpose()?.map(|w| {
+                    w.into_iter()
+                        .map(|(j, n)| (j, problem.inertia.velocity_dof(j), n))
+                        .collect()
+                }),
+                slide: friction.then(|| slide_direction(problem)),
+                spin: case.spin().map(|spin| SpinProbe::new(problem, spin)),
+            };
+            let masses = probe
+                .slide
+                .as_ref()
+                .zip(probe.spin.as_ref())
+                .map(|(t, s)| (t.1, s.normal.1));
+            let sampler = scope.spawn(move || -> Result<_> {
+                let mut rows: Vec<Row> = Vec::with_capacity(steps + 1);
+                let mut errors = Vec::with_capacity(if field.is_some() { steps + 1 } else { 0 });
+                // The state at the sample of largest total force (impact cases).
+                let (mut peak, mut f_peak) = (Peak::default(), 0.0);
+                for (index, snap) in rx.into_iter().enumerate() {
+                    let s = snap.state();
+                    if let Some(out) = vtu.as_mut() {
+                        match bodies {
+                            Some(b) => {
+                                let split = b.split(&shares, s.u, s.v, s.lambda);
+                                let each: Vec<Fields> = split
+                                    .iter()
+                                    .map(|f| Fields {
+                                        t: s.t,
+                                        u: &f.u,
+                                        v: &f.v,
+                                        lambda: &f.lambda,
+                                    })
+                                    .collect();
+                                out.sample_bodies(index, &each)?;
+                            }
+                            None => out.sample(
+                                index,
+                                &Fields {
                                     t: s.t,
-                                    u: &f.u,
-                                    v: &f.v,
-                                    lambda: &f.lambda,
-                                })
-                                .collect();
-                            out.sample_bodies(index, &each)?;
+                                    u: s.u,
+                                    v: s.v,
+                                    lambda: &problem.contact.vertex_forces(s.lambda).0,
+                                },
+                            )?,
                         }
-                        None => out.sample(
-                            index,
-                            &Fields {
-                                t: s.t,
-                                u: s.u,
-                                v: s.v,
-                                lambda: &problem.contact.vertex_forces(s.lambda).0,
-                            },
-                        )?,
                     }
-                }
-                let row = probe_row(problem, &mut probe, &s, exact);
-                if let Some((what, value)) = row.non_finite() {
-                    return Err(diverged(index, s.t, what, value));
-                }
-                if probe.centre.is_some() && row.force_contact > f_peak {
-                    f_peak = row.force_contact;
-                    peak.fill(&s);
-                }
-                rows.push(row);
-                if let Some(f) = field {
-                    let e = f.errors(s.u, s.t);
-                    // The H¹ error is NaN where it is not computed.
-                    let h1 = if e.1.is_nan() { 0.0 } else { e.1 };
-                    if let Some((what, value)) = [("L² field error", e.0), ("H¹ field error", h1)]
-                        .into_iter()
-                        .find(|(_, v)| !v.is_finite())
-                    {
+                    let row = probe_row(problem, &mut probe, &s, exact);
+                    if let Some((what, value)) = row.non_finite() {
                         return Err(diverged(index, s.t, what, value));
                     }
-                    errors.push(e);
+                    if probe.centre.is_some() && row.force_contact > f_peak {
+                        f_peak = row.force_contact;
+                        peak.fill(&s);
+                    }
+                    rows.push(row);
+                    if let Some(f) = field {
+                        let e = f.errors(s.u, s.t);
+                        // The H¹ error is NaN where it is not computed.
+                        let h1 = if e.1.is_nan() { 0.0 } else { e.1 };
+                        if let Some((what, value)) =
+                            [("L² field error", e.0), ("H¹ field error", h1)]
+                                .into_iter()
+                                .find(|(_, v)| !v.is_finite())
+                        {
+                            return Err(diverged(index, s.t, what, value));
+                        }
+                        errors.push(e);
+                    }
+                    // The time loop may have finished: a snapshot nobody reuses is dropped.
+                    let _ = recycle.send(snap);
                 }
-                // The time loop may have finished: a snapshot nobody reuses is dropped.
-                let _ = recycle.send(snap);
-            }
-            Ok((rows, errors, peak))
-        });
-        // A failed send means the sampler stopped on an error, which its join reports.
-        let send = |it: &dyn Integrator| {
-            let mut snap: Snapshot = recycled.try_recv().unwrap_or_default();
-            snap.fill(&it.state());
-            tx.send(snap).is_ok()
-        };
-        let mut iterations = 0;
-        let mut stepped = Ok(());
-        if send(integrator.as_ref()) {
-            for n in 0..steps {
-                match integrator.step() {
-                    Ok(info) => iterations += info.contact_iterations,
-                    Err(e) => {
-                        stepped = Err(e);
+                Ok((rows, errors, peak))
+            });
+            // A failed send means the sampler stopped on an error, which its join reports.
+            let send = |it: &dyn Integrator| {
+                let mut snap: Snapshot = recycled.try_recv().unwrap_or_default();
+                snap.fill(&it.state());
+                tx.send(snap).is_ok()
+            };
+            let mut iterations = 0;
+            let mut stepped = Ok(());
+            if send(integrator.as_ref()) {
+                for n in 0..steps {
+                    match integrator.step() {
+                        Ok(info) => iterations += info.contact_iterations,
+                        Err(e) => {
+                            stepped = Err(e);
+                            break;
+                        }
+                    }
+                    if !send(integrator.as_ref()) {
                         break;
                     }
+                    bar.update(n + 1);
                 }
-                if !send(integrator.as_ref()) {
-                    break;
-                }
-                bar.update(n + 1);
             }
-        }
-        drop(tx);
-        // The sampler's error is at an earlier step than the loop's, or the same.
-        let sampled = sampler
-            .join()
-            .map_err(|_| Error::Internal("the sampling thread panicked".into()))?;
-        let (rows, errors, peak) = sampled.and_then(|r| stepped.map(|()| r))?;
-        if rows.len() != steps + 1 {
-            return Err(Error::Internal("the sampling thread stopped".into()));
-        }
-        Ok((rows, errors, peak, iterations))
-    })?;
+            drop(tx);
+            // The sampler's error is at an earlier step than the loop's, or the same.
+            let sampled = sampler
+                .join()
+                .map_err(|_| Error::Internal("the sampling thread panicked".into()))?;
+            let (rows, errors, peak) = sampled.and_then(|r| stepped.map(|()| r))?;
+            if rows.len() != steps + 1 {
+                return Err(Error::Internal("the sampling thread stopped".into()));
+            }
+            Ok((rows, errors, peak, iterations, masses))
+        })?;
     bar.finish();
     let wall_time = start.elapsed().as_secs_f64();
     let mut metrics = metrics::compute(
@@ -308,6 +316,9 @@ pub fn run_with_output(
         metrics::hertz(&mut metrics, &rows, (&vertex_lambda, vertex_area), i);
     }
     metrics::friction(&mut metrics, &rows, case.slide().as_ref());
+    if let Some(masses) = masses {
+        metrics::oblique(&mut metrics, &rows, masses);
+    }
     peak.lambda = vertex_lambda;
     Ok(RunResult {
         rows,
@@ -452,6 +463,55 @@ struct Probe {
     /// With friction: the unit translation along the first tangent with its buffer, and the
     /// mass `1ᵀM̃1` (the centre of mass's velocity is `(M̃1)ᵀV / 1ᵀM̃1`).
     slide: Option<Slide>,
+    /// A disc or sphere with friction: its normal velocity and angular velocity.
+    spin: Option<SpinProbe>,
+}
+
+/// The normal translation and the rotation of [`crate::cases::Spin`], each with its buffer and
+/// its mass (`1_dᵀM̃1_d`, the moment of inertia `φᵀM̃φ`), φ made M̃-orthogonal to the
+/// translations along e_1 and e_d so that `(M̃φ)ᵀV` is the angular momentum about the centre
+/// of mass.
+struct SpinProbe {
+    normal: Slide,
+    rotation: Slide,
+}
+
+impl SpinProbe {
+    fn new(problem: &Problem, spin: crate::cases::Spin) -> Self {
+        // `(a, M̃ project(b))`, the space's mass as an inner product of U-layout fields.
+        let inner = |a: &[f64], b: &[f64]| {
+            let inertial = problem.inertia.project(b).unwrap_or_else(|_| b.to_vec());
+            momentum(
+                problem,
+                &mut (a.to_vec(), vec![0.0; problem.n()]),
+                &inertial,
+            )
+        };
+        let tangent = problem
+            .contact
+            .friction
+            .as_ref()
+            .map_or_else(|| vec![0.0; problem.n()], |f| f.translation.clone());
+        let mut phi = spin.rotation;
+        for t in [&tangent, &spin.normal] {
+            let (c, m) = (inner(t, &phi), inner(t, t));
+            if m > 0.0 {
+                crate::linalg::axpy(&mut phi, -c / m, t);
+            }
+        }
+        let buffer = || vec![0.0; problem.n()];
+        let (m_n, inertia) = (inner(&spin.normal, &spin.normal), inner(&phi, &phi));
+        Self {
+            normal: ((spin.normal, buffer()), m_n),
+            rotation: ((phi, buffer()), inertia),
+        }
+    }
+
+    /// `(v_n, ω)` of the inertial velocity v.
+    fn velocities(&mut self, problem: &Problem, v: &[f64]) -> (f64, f64) {
+        let of = |(t, mass): &mut Slide| momentum(problem, t, v) / *mass;
+        (of(&mut self.normal), of(&mut self.rotation))
+    }
 }
 
 /// The unit translation along the first tangent of the plane, a buffer for `M̃V`, the mass
@@ -517,6 +577,7 @@ fn probe_row(
             .slide
             .as_mut()
             .map(|(t, mass)| (momentum(problem, t, s.v) / *mass, s.friction_work)),
+        spin: probe.spin.as_mut().map(|p| p.velocities(problem, s.v)),
         exact: exact.map(|e| {
             let c = e.contact(s.t);
             (c.u, c.sigma, e.energy(s.t))

@@ -7,8 +7,9 @@
 //! contact point facing the probe, along the line of impact) for the multi-body cases,
 //! `com_velocity_t` (the centre of
 //! mass's velocity along the first tangent of the plane) and `friction_work` (`W_f ≥ 0`, the
-//! work dissipated by Coulomb friction) for the runs with friction and, when the case has an exact
-//! solution,
+//! work dissipated by Coulomb friction) for the runs with friction, `com_velocity_n` (the centre
+//! of mass's velocity along the plane's normal) and `angular_velocity` (ω, positive rolling along
+//! +e_1) for a disc or sphere with friction and, when the case has an exact solution,
 //! `u_contact_exact, sigma_contact_exact, energy_exact`. `sigma_contact` is the
 //! normal contact stress σ_N = −λ/area (compression negative). Units are those of the case file
 //! (time, length, length/time, force/area, energy, length).
@@ -45,6 +46,9 @@ pub struct Row {
     /// With friction: the centre of mass's velocity along the first tangent and the friction
     /// work `W_f` so far.
     pub friction: Option<(f64, f64)>,
+    /// A disc or sphere with friction: the centre of mass's normal velocity and the angular
+    /// velocity ω ([`crate::cases::Spin`]).
+    pub spin: Option<(f64, f64)>,
     /// Exact `(u, σ_N, E)` at the contact point, when the case has an exact solution.
     pub exact: Option<(f64, f64, f64)>,
 }
@@ -85,6 +89,8 @@ pub const TIMESERIES_COLUMNS: &[&str] = &[
 pub const MASTER_COLUMNS: &[&str] = &["u_contact_master", "v_contact_master"];
 /// Friction columns of `timeseries.csv` (runs with friction only).
 pub const FRICTION_COLUMNS: &[&str] = &["com_velocity_t", "friction_work"];
+/// Rigid-motion columns of `timeseries.csv` (a disc or sphere with friction).
+pub const SPIN_COLUMNS: &[&str] = &["com_velocity_n", "angular_velocity"];
 /// Exact-solution columns of `timeseries.csv`.
 pub const EXACT_COLUMNS: &[&str] = &["u_contact_exact", "sigma_contact_exact", "energy_exact"];
 /// Writes `timeseries.csv`.
@@ -93,6 +99,7 @@ pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
     let approach = rows.first().is_some_and(|r| r.approach.is_some());
     let momentum = rows.first().is_some_and(|r| r.momentum.is_some());
     let friction = rows.first().is_some_and(|r| r.friction.is_some());
+    let spin = rows.first().is_some_and(|r| r.spin.is_some());
     let mut header = TIMESERIES_COLUMNS.to_vec();
     if approach {
         header.push("approach");
@@ -105,6 +112,9 @@ pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
     }
     if friction {
         header.extend_from_slice(FRICTION_COLUMNS);
+    }
+    if spin {
+        header.extend_from_slice(SPIN_COLUMNS);
     }
     if exact {
         header.extend_from_slice(EXACT_COLUMNS);
@@ -129,6 +139,9 @@ pub fn write_timeseries(path: &Path, rows: &[Row]) -> Result<()> {
             }
             if let Some((c, w)) = r.friction {
                 v.extend([c, w]);
+            }
+            if let Some((n, w)) = r.spin {
+                v.extend([n, w]);
             }
             if let Some((u, s, e)) = r.exact {
                 v.extend([u, s, e]);
