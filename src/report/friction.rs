@@ -18,6 +18,21 @@ use crate::util::{group_by, unique};
 use rayon::prelude::*;
 use std::path::Path;
 
+/// `f` over `items` in parallel (the studies' runs): the first error, else the values `f`
+/// gives (None: a run without the quantities, left out).
+pub(super) fn par_runs<T: Sync, U: Send>(
+    items: &[T],
+    f: impl Fn(&T) -> Result<Option<U>> + Sync + Send,
+) -> Result<Vec<U>> {
+    Ok(items
+        .par_iter()
+        .map(f)
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .collect())
+}
+
 /// The section's anchor and the `case` of its figures.
 pub const SECTION: &str = "friction";
 

@@ -7,7 +7,7 @@
 //! regime lies against the band [3/7, 1] and the digitised points.
 
 use super::doc::{Block, Cell, Figure, Rich};
-use super::friction::SECTION;
+use super::friction::{par_runs, SECTION};
 use crate::cases::{CaseFile, Overrides};
 use crate::error::Result;
 use crate::exact::oblique::{
@@ -15,7 +15,6 @@ use crate::exact::oblique::{
 };
 use crate::output::plot::{xy_plot, Dash, Marker, Series, Style, PALETTE};
 use crate::study::run::run;
-use rayon::prelude::*;
 use std::path::Path;
 
 /// `|J_t| / (μ J_n)` at least this: the contact slid throughout (Coulomb's equality, to the
@@ -168,13 +167,21 @@ fn conclusions(points: &[Point], mu: f64) -> Vec<Rich> {
             .copied()
             .max_by(|a, b| a.abs().total_cmp(&b.abs()));
         out.push(Rich::parse(&format!(
-            "Stick regime (`|J_t| < μJ_n`) at θ = {}°: e_t from {:.4} to {:.4}, {inside} of {} inside the \
-             band [3/7, 1] that tangential compliance allows (the rigid stick: 5/7 = 0.7143){}. This is \
-             where the elastic sphere's tangential compliance acts: the rigid limits do not hold, and \
-             the digitised curve is a plausibility band only.",
-            stuck.iter().map(|p| format!("{:.0}", p.theta)).collect::<Vec<_>>().join(", "),
+            "Not sliding throughout (`|J_t| < {GROSS_SLIP} μJ_n`) at θ = {}°: e_t from {:.4} to \
+             {:.4}, {inside} of {} inside the band [3/7, 1] that tangential compliance allows \
+             while the contact sticks (the rigid stick: 5/7 = 0.7143){}. This is where the \
+             elastic sphere's tangential compliance acts: the rigid limits do not hold, and the \
+             digitised curve is a plausibility band only.",
+            stuck
+                .iter()
+                .map(|p| format!("{:.0}", p.theta))
+                .collect::<Vec<_>>()
+                .join(", "),
             stuck.iter().map(|p| p.e_t).fold(f64::INFINITY, f64::min),
-            stuck.iter().map(|p| p.e_t).fold(f64::NEG_INFINITY, f64::max),
+            stuck
+                .iter()
+                .map(|p| p.e_t)
+                .fold(f64::NEG_INFINITY, f64::max),
             stuck.len(),
             worst.map_or(String::new(), |w| format!(
                 "; the largest deviation from Chung & Ooi's digitised points is {w:+.3}"
@@ -291,13 +298,7 @@ pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, V
         ..Default::default()
     };
     let mu = study.mu;
-    let points: Vec<Point> = angles
-        .par_iter()
-        .map(|&theta| point(file, &o, theta, mu))
-        .collect::<Result<Vec<_>>>()?
-        .into_iter()
-        .flatten()
-        .collect();
+    let points = par_runs(angles, |&theta| point(file, &o, theta, mu))?;
     if points.is_empty() {
         return Ok((Vec::new(), Vec::new()));
     }

@@ -6,14 +6,13 @@
 //! accelerations fitted after the release's bounce.
 
 use super::doc::{Block, Figure, Rich};
-use super::friction::SECTION;
+use super::friction::{par_runs, SECTION};
 use super::style;
 use crate::cases::CaseFile;
 use crate::error::Result;
 use crate::exact::roll::Roll;
 use crate::output::plot::{time_plot, Dash, Series, Style};
 use crate::study::run::run;
-use rayon::prelude::*;
 use std::path::Path;
 
 /// The fit leaves out `t < FIT_FROM · T` (the bounce of the release on the plane).
@@ -65,25 +64,19 @@ pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, V
             Ok((o, Roll { mu, ..roll }))
         })
         .collect::<Result<Vec<_>>>()?;
-    let curves: Vec<Curve> = runs
-        .par_iter()
-        .map(|(o, exact)| -> Result<Option<Curve>> {
-            let r = run(file.build(o)?.as_ref())?;
-            let pts: Option<Vec<(f64, f64, f64)>> = r
-                .rows
-                .iter()
-                .map(|x| Some((x.t, x.friction?.0, x.spin?.1)))
-                .collect();
-            Ok(pts.map(|pts| Curve {
-                exact: *exact,
-                velocity: pts.iter().map(|p| (p.0, p.1)).collect(),
-                slip: pts.iter().map(|p| (p.0, p.1 - radius * p.2)).collect(),
-            }))
-        })
-        .collect::<Result<Vec<_>>>()?
-        .into_iter()
-        .flatten()
-        .collect();
+    let curves = par_runs(&runs, |(o, exact)| -> Result<Option<Curve>> {
+        let r = run(file.build(o)?.as_ref())?;
+        let pts: Option<Vec<(f64, f64, f64)>> = r
+            .rows
+            .iter()
+            .map(|x| Some((x.t, x.friction?.0, x.spin?.1)))
+            .collect();
+        Ok(pts.map(|pts| Curve {
+            exact: *exact,
+            velocity: pts.iter().map(|p| (p.0, p.1)).collect(),
+            slip: pts.iter().map(|p| (p.0, p.1 - radius * p.2)).collect(),
+        }))
+    })?;
     if curves.is_empty() {
         return Ok((Vec::new(), Vec::new()));
     }
