@@ -117,6 +117,74 @@ fn at_small_incidence_the_contact_sticks_and_e_t_lies_in_the_compliance_band() {
     balanced(&m);
 }
 
+/// The report's Moreau–Jean runs (the case's `oblique` sweep: θ = ½, n = 4, Δt = 0.2) slide
+/// throughout at 60° like the position-level schemes: `|J_t| = μ J_n` (measured 0.9995 standard,
+/// 0.9993 mass redistribution; asserted within 2e-2), the sphere rebounds (e_n 1.0006 and
+/// 0.9953) and e_t follows the rigid slide `1 − μ(1 + e_n)/tan θ` (measured within 1.2e-4;
+/// asserted within 1e-3). They take e = 0 at the nodes: with e = 1 (the sweep's choice before)
+/// the standard mass gives `|J_t|/(μJ_n)` = 0.40 (asserted < 0.5: the flipping nodal velocities
+/// of [`dyncontact::time::moreau_jean`]) and the sphere passes through the plane with the mass
+/// redistribution (e_n = −0.986).
+#[test]
+fn moreau_jean_slides_throughout_at_large_incidence() {
+    let path = Path::new("cases/oblique3d.toml");
+    let case = cases::load(path, &Overrides::default()).unwrap();
+    let sweep = case.sweeps().iter().find(|s| s.name == "oblique").unwrap();
+    let choice = sweep
+        .schemes
+        .iter()
+        .find(|c| c.scheme == "moreau_jean")
+        .unwrap();
+    let level = sweep.refinements(false).unwrap()[0];
+    let metrics = |space: &str, restitution: Option<f64>| {
+        let mut o = Overrides {
+            incidence: Some(60.0),
+            ..sweep.overrides(space, choice, level)
+        };
+        if let Some(e) = restitution {
+            o.options.params.set("restitution", e);
+        }
+        let m = run(cases::load(path, &o).unwrap().as_ref())
+            .unwrap()
+            .summary
+            .metrics;
+        println!(
+            "{space}, e = {restitution:?}: |J_t|/(μJ_n) {:.4}, e_n {:?}, e_t {:?}",
+            slip(&m),
+            m.restitution_eff,
+            m.tangential_restitution
+        );
+        m
+    };
+    for space in &sweep.spaces {
+        let m = metrics(space, None);
+        let e_n = m.restitution_eff.unwrap();
+        let rigid = Oblique {
+            mu: MU,
+            incidence: 60f64.to_radians(),
+            restitution: e_n,
+        };
+        let e_t = m.tangential_restitution.unwrap();
+        assert!(
+            (slip(&m) - 1.0).abs() < 2e-2,
+            "{space}: |J_t|/(μJ_n) = {}",
+            slip(&m)
+        );
+        assert!(e_n > 0.99 && e_n < 1.01, "{space}: e_n = {e_n}");
+        assert!(
+            (e_t - rigid.sliding_restitution()).abs() < 1e-3,
+            "{space}: e_t = {e_t}, sliding {}",
+            rigid.sliding_restitution()
+        );
+    }
+    let bouncing = metrics("standard", Some(1.0));
+    assert!(
+        slip(&bouncing) < 0.5,
+        "e = 1: |J_t|/(μJ_n) = {}",
+        slip(&bouncing)
+    );
+}
+
 /// `--incidence` turns the speed, keeps it, and is refused where it means nothing.
 #[test]
 fn incidence_turns_the_velocity_and_is_refused_elsewhere() {
