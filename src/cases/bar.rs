@@ -197,10 +197,6 @@ impl<X: BarExact> Case for Bar<X> {
         Some(Box::new(BarFieldError::new(&self.fem, &self.exact)))
     }
 
-    fn stress_is_function(&self) -> bool {
-        true
-    }
-
     fn run(&self) -> &RunSpec {
         &self.run
     }

@@ -22,12 +22,11 @@
 //! velocity; optional gravity.
 
 use super::sweep::{Refinement, SweepSpec};
-use super::{Case, FieldError, Overrides, RunSpec, Size};
+use super::{Case, Overrides, RunSpec, Size};
 use crate::element::reference::{RefElement, Shape};
 use crate::error::{positive, Error, Result};
 use crate::exact::hertz::Hertz;
 use crate::exact::slide::Slide;
-use crate::exact::ExactContact;
 use crate::fem::discretisation::{Discretisation, Initial};
 use crate::fem::elasticity::Lame;
 use crate::mesh::structured::box_mesh;
@@ -295,14 +294,29 @@ pub(super) fn generated_nodes(g: &Geometry, dim: usize, n: usize, degree: usize)
 /// [`GMSH_BYTES_PER_NODE`] of its length.
 pub fn size(spec: &BodySpec, o: &Overrides) -> Size {
     let dim = KINDS.iter().find(|k| k.0 == spec.case).map_or(3, |k| k.1);
-    let nodes = match o.mesh.as_ref().or(spec.mesh.file.as_ref()) {
+    mesh_size((&spec.geometry, &spec.mesh), dim, o, 1.0)
+}
+
+/// The [`Size`] of `bodies` generated copies of a body's mesh in dimension `dim`, or of the Gmsh
+/// file given (by `--mesh` or `[mesh] file`), whose nodes are estimated from its length
+/// ([`GMSH_BYTES_PER_NODE`]) whatever it holds.
+pub fn mesh_size(
+    (geometry, mesh): (&Geometry, &MeshSpec),
+    dim: usize,
+    o: &Overrides,
+    bodies: f64,
+) -> Size {
+    let nodes = match o.mesh.as_ref().or(mesh.file.as_ref()) {
         Some(file) => std::fs::metadata(file).map_or(0.0, |m| m.len() as f64) / GMSH_BYTES_PER_NODE,
-        None => generated_nodes(
-            &spec.geometry,
-            dim,
-            o.elements.unwrap_or(spec.mesh.elements),
-            o.degree.unwrap_or(spec.mesh.degree),
-        ),
+        None => {
+            bodies
+                * generated_nodes(
+                    geometry,
+                    dim,
+                    o.elements.unwrap_or(mesh.elements),
+                    o.degree.unwrap_or(mesh.degree),
+                )
+        }
     };
     Size {
         dim,
@@ -657,18 +671,6 @@ impl Case for Body {
             problem.contact.friction = Some(fem.friction(self.friction)?);
         }
         Ok(problem)
-    }
-
-    fn exact(&self) -> Option<&dyn ExactContact> {
-        None
-    }
-
-    fn field_error(&self) -> Option<Box<dyn FieldError + '_>> {
-        None
-    }
-
-    fn stress_is_function(&self) -> bool {
-        true
     }
 
     fn run(&self) -> &RunSpec {

@@ -38,13 +38,20 @@ pub trait Case: Send + Sync {
     fn h(&self) -> f64;
     /// The semi-discrete problem with the given space.
     fn problem(&self, space: &dyn Space) -> Result<Problem>;
-    /// Exact solution at the contact point, if known.
-    fn exact(&self) -> Option<&dyn ExactContact>;
-    /// Exact-field error evaluator (for a problem built by this case), if known.
-    fn field_error(&self) -> Option<Box<dyn FieldError + '_>>;
+    /// Exact solution at the contact point, if known (none by default).
+    fn exact(&self) -> Option<&dyn ExactContact> {
+        None
+    }
+    /// Exact-field error evaluator (for a problem built by this case), if known (none by
+    /// default).
+    fn field_error(&self) -> Option<Box<dyn FieldError + '_>> {
+        None
+    }
     /// True when the exact contact stress is a function of time (not a sum of impulses), so that
-    /// its L²(0, T) error is meaningful.
-    fn stress_is_function(&self) -> bool;
+    /// its L²(0, T) error is meaningful (by default; the point mass's is a sum of impulses).
+    fn stress_is_function(&self) -> bool {
+        true
+    }
     /// The run settings (defaults from the file, possibly overridden).
     fn run(&self) -> &RunSpec;
     /// The `[[sweep]]` tables of the case file.

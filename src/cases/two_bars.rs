@@ -182,10 +182,6 @@ impl Case for TwoBars {
         }))
     }
 
-    fn stress_is_function(&self) -> bool {
-        true
-    }
-
     fn run(&self) -> &RunSpec {
         &self.run
     }

@@ -40,10 +40,9 @@
 
 use super::body::{Body, BodySpec, ContactSpec, Geometry, Material, MeshSpec};
 use super::sweep::{HistorySpec, SweepSpec};
-use super::{Case, FieldError, Impact, Overrides, RunSpec, Size};
+use super::{Case, Impact, Overrides, RunSpec, Size};
 use crate::error::{Error, Result};
 use crate::exact::hertz::Hertz;
-use crate::exact::ExactContact;
 use crate::fem::bodies::Bodies;
 use crate::fem::discretisation::{Discretisation, Initial};
 use crate::fem::mass_model::MassModel;
@@ -70,24 +69,7 @@ pub const KINDS: &[(&str, usize)] = &[
 /// file's length (both bodies).
 pub fn size(spec: &TwoBodiesSpec, o: &Overrides) -> Size {
     let dim = KINDS.iter().find(|k| k.0 == spec.case).map_or(3, |k| k.1);
-    let nodes = match o.mesh.as_ref().or(spec.mesh.file.as_ref()) {
-        Some(file) => {
-            std::fs::metadata(file).map_or(0.0, |m| m.len() as f64)
-                / super::body::GMSH_BYTES_PER_NODE
-        }
-        None => {
-            2.0 * super::body::generated_nodes(
-                &spec.geometry,
-                dim,
-                o.elements.unwrap_or(spec.mesh.elements),
-                o.degree.unwrap_or(spec.mesh.degree),
-            )
-        }
-    };
-    Size {
-        dim,
-        dofs: nodes * dim as f64,
-    }
+    super::body::mesh_size((&spec.geometry, &spec.mesh), dim, o, 2.0)
 }
 
 /// `[master]`: body 2 where it differs from body 1 (each table in full, as body 1's).
@@ -549,18 +531,6 @@ impl Case for TwoBodies {
             problem.contact.append(contact, offset)?;
         }
         Ok(problem)
-    }
-
-    fn exact(&self) -> Option<&dyn ExactContact> {
-        None
-    }
-
-    fn field_error(&self) -> Option<Box<dyn FieldError + '_>> {
-        None
-    }
-
-    fn stress_is_function(&self) -> bool {
-        true
     }
 
     fn run(&self) -> &RunSpec {
