@@ -27,6 +27,7 @@
 //! explicit central difference would need a stability restriction depending on γ₀: they are
 //! refused. Cases: bar1d and every meshed 2D/3D body (not the spring–mass, which has no stress).
 
+use super::friction::{alart_curnier::AlartCurnier, Coulomb};
 use super::{Enforcement, Formulation, SolveInfo, Solver};
 use crate::error::{in_range, positive, Error, Result, SolverError};
 use crate::linalg::TripletBuilder;
@@ -97,21 +98,9 @@ impl Formulation for Nitsche {
         "nitsche"
     }
 
-    /// Refused. The formulation is known (GetFEM's Nitsche contact brick,
-    /// `add_Nitsche_contact_with_rigid_obstacle_brick`, `doc/sphinx/source/userdoc/
-    /// model_Nitsche.rst`, after Chouly, Hild & Renard): the normal term's `[·]₊` becomes
-    /// `P_{n,μ}(x) = −(x·n)₋ n + P_{B(0, μ (x·n)₋)}(x − (x·n) n)` of the whole Nitsche vector
-    /// `x = σ(u)n − (A u − g n − α w_T)/γ` (`A = α I + (1 − α) n nᵀ`, `α w_T` the scheme's slip),
-    /// tested against `θ D_uG[v] − v/γ`. It needs the tangential stress rows `σ_T(u)` at the
-    /// quadrature points and a ball projection in the per-step law (`NitscheLaw` solves the
-    /// normal `min(λ, g + (γ/w) λ) = 0` only): not implemented.
+    /// GetFEM's Nitsche friction (see the module documentation).
     fn friction(&self) -> std::result::Result<(), &'static str> {
-        Err(
-            "Nitsche's friction (GetFEM's Nitsche contact brick after Chouly, Hild & Renard: the \
-             projection of σ(u)n − (A u − g n − α w_T)/γ on the Coulomb cone) needs tangential \
-             stress rows σ_T(u) and a ball projection in the per-step Nitsche law, which are not \
-             implemented; use contact = \"nodal\" or \"weak\"",
-        )
+        Ok(())
     }
 
     fn check_scheme(&self, scheme: &str, enforcement: Enforcement) -> Result<()> {
@@ -160,6 +149,7 @@ impl Formulation for Nitsche {
         let mut force = TripletBuilder::new(points.len(), n);
         let mut k = TripletBuilder::new(n, n);
         k.add_scaled(0, 0, 1.0, &problem.k);
+        let mut tangential = self.tangential(problem, &points)?;
         let (mut compliance, mut energy) = (Vec::new(), Vec::new());
         for (i, p) in points.iter().enumerate() {
             let (w, gamma) = (p.weight, p.h_over_e / self.gamma0);
@@ -170,14 +160,21 @@ impl Formulation for Nitsche {
             for (j, v) in combine(&p.u_n, &p.sigma_n, self.theta * gamma) {
                 force.add(i, j, v);
             }
-            for &(a, sa) in &p.sigma_n {
-                for &(b, sb) in &p.sigma_n {
-                    k.add(a, b, -self.theta * w * gamma * sa * sb);
+            let mut s = vec![p.sigma_n.clone()];
+            if let Some(t) = tangential.as_mut() {
+                t.add(i, p, gamma);
+                s.extend(p.sigma_t.iter().cloned());
+            }
+            for row in &s {
+                for &(a, sa) in row {
+                    for &(b, sb) in row {
+                        k.add(a, b, -self.theta * w * gamma * sa * sb);
+                    }
                 }
             }
             compliance.push(gamma / w);
             energy.push(ContactEnergy {
-                s: p.sigma_n.clone(),
+                s,
                 r,
                 g0: p.g0,
                 a: 0.5 * (self.theta - 1.0) * w * gamma,
@@ -197,7 +194,79 @@ impl Formulation for Nitsche {
         contact.force = Some(force.build()?);
         contact.energy = energy;
         contact.normal = Some(points.into_iter().map(|p| p.u_n).collect());
-        Ok(Box::new(NitscheLaw { compliance }))
+        match (tangential, contact.friction.as_mut()) {
+            (Some(t), Some(f)) => {
+                (f.b_t, f.force, f.slip) = (
+                    t.law.build()?,
+                    Some(t.force.build()?),
+                    Some(t.slip.build()?),
+                );
+                let law = Coulomb {
+                    mu: f.mu,
+                    points: contact.g0.len(),
+                    tangents: f.tangents,
+                    frictionless: 0,
+                };
+                Ok(Box::new(AlartCurnier::nitsche(law, compliance)))
+            }
+            _ => Ok(Box::new(NitscheLaw { compliance })),
+        }
+    }
+}
+
+impl Nitsche {
+    /// The tangential rows of a run with friction (None without): refused on frictionless
+    /// points (a pair) and where Γ_C has no tangent (a 1D end point).
+    fn tangential(
+        &self,
+        problem: &Problem,
+        points: &[BoundaryPoint],
+    ) -> Result<Option<Tangential>> {
+        let Some(f) = &problem.contact.friction else {
+            return Ok(None);
+        };
+        if f.frictionless > 0 || points.iter().any(|p| p.u_t.len() != f.tangents) {
+            return Err(Error::Unsupported(
+                "nitsche contact with friction needs the tangents of one Γ_C on the rigid plane \
+                 (a meshed 2D/3D body; not a pair of bodies or a 1D end point)"
+                    .into(),
+            ));
+        }
+        let (rows, n) = (points.len() * f.tangents, problem.k.ncols());
+        Ok(Some(Tangential {
+            law: TripletBuilder::new(rows, n),
+            force: TripletBuilder::new(rows, n),
+            slip: TripletBuilder::new(rows, n),
+            theta: self.theta,
+        }))
+    }
+}
+
+/// Nitsche's tangential rows, point-major as `B_T`: law `u_T − γ σ_T`, force
+/// `Q_T = u_T − θ γ σ_T`, slip `u_T`.
+struct Tangential {
+    law: TripletBuilder,
+    force: TripletBuilder,
+    slip: TripletBuilder,
+    theta: f64,
+}
+
+impl Tangential {
+    /// The rows of point `i`.
+    fn add(&mut self, i: usize, p: &BoundaryPoint, gamma: f64) {
+        let d = p.u_t.len();
+        for (k, (u, s)) in p.u_t.iter().zip(&p.sigma_t).enumerate() {
+            let row = i * d + k;
+            for (j, v) in combine(u, s, gamma) {
+                self.law.add(row, j, v);
+            }
+            for (j, v) in combine(u, s, self.theta * gamma) {
+                self.force.add(row, j, v);
+            }
+            for &(j, v) in u {
+                self.slip.add(row, j, v);
+            }
+        }
     }
 }
 

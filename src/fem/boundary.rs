@@ -10,6 +10,8 @@
 //! straight faces. At each point, with the plane's outward normal `n = −e_d`:
 //! - `u_N = u·n = −Σ_a φ_a u_{a,d}`, the gap `g₀ = x_d + lift`;
 //! - `σ_N = n·σ(u)n = σ_dd = λ div u + 2μ ∂_d u_d`, from the gradients of T's basis;
+//! - along the tangents `t_k = e_k` (k < d − 1, as the nodal `B_T`): `u_T = u_k` and
+//!   `σ_T = t_k·σ(u)n = −σ_kd = −μ (∂_d u_k + ∂_k u_d)` (Nitsche's friction);
 //! - `h/E` with h the diameter of T (largest distance between its vertices).
 
 use super::dofs::DofMap;
@@ -140,6 +142,8 @@ pub fn contact_points(
             let last = d - 1;
             let mut u_n = Vec::new();
             let mut sigma_n = Vec::new();
+            let mut u_t = vec![Vec::new(); last];
+            let mut sigma_t = vec![Vec::new(); last];
             let mut height = 0.0;
             for (a, &node) in cell.iter().enumerate() {
                 height += phi[a] * x[a][last];
@@ -157,12 +161,24 @@ pub fn contact_points(
                         sigma_n.push((dof, s));
                     }
                 }
+                for k in 0..last {
+                    if let (true, Some(dof)) = (phi[a].abs() > ZERO, dofs.get(node, k)) {
+                        u_t[k].push((dof, phi[a]));
+                    }
+                    for (c, g) in [(k, grad[a][last]), (last, grad[a][k])] {
+                        if let (true, Some(dof)) = (g != 0.0, dofs.get(node, c)) {
+                            sigma_t[k].push((dof, -lame.mu * g));
+                        }
+                    }
+                }
             }
             points.push(BoundaryPoint {
                 weight: p.weight * measure,
                 g0: height + lift,
                 u_n,
                 sigma_n,
+                u_t,
+                sigma_t,
                 h_over_e,
                 vertices: f.vertices.iter().map(|v| row[v]).zip(p.hats).collect(),
             });
@@ -204,6 +220,8 @@ fn end_point(
                     .map(|dof| (dof, modulus * seg.derivative(k, xi) / h))
             })
             .collect(),
+        u_t: Vec::new(),
+        sigma_t: Vec::new(),
         h_over_e: h / modulus,
         vertices: vec![(row[&node], 1.0)],
     }
@@ -263,6 +281,17 @@ mod tests {
                 assert!((shares - 1.0).abs() < 1e-14, "{el:?}");
                 assert!((dot(&p.u_n, &shift) + 0.7).abs() < 1e-13, "{el:?}");
                 assert!((dot(&p.sigma_n, &linear) - exact).abs() < 1e-12, "{el:?}");
+                assert_eq!(p.u_t.len(), d - 1, "{el:?}");
+                for k in 0..d - 1 {
+                    let slide: Vec<f64> = (0..n).map(|j| f64::from(j % d == k)).collect();
+                    let shear = -lame.mu * (grad[k][d - 1] + grad[d - 1][k]);
+                    assert!(dot(&p.u_t[k], &shift).abs() < 1e-14, "{el:?}");
+                    assert!((dot(&p.u_t[k], &slide) - 1.0).abs() < 1e-13, "{el:?}");
+                    assert!(
+                        (dot(&p.sigma_t[k], &linear) - shear).abs() < 1e-12,
+                        "{el:?}"
+                    );
+                }
                 let x: f64 = p
                     .vertices
                     .iter()

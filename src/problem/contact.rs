@@ -56,6 +56,12 @@ pub struct Friction {
     /// The unit translation of the body along the first tangent (dof layout of U): the
     /// centre of mass's tangential velocity is `(M̃1)ᵀV / 1ᵀM̃1`.
     pub translation: Vec<f64>,
+    /// The rows whose transpose applies the tangential force (`+Q_Tᵀ r_T`) when they are not
+    /// `B_T` (Nitsche's `Q_T = B_T − θ γ S_T`).
+    pub force: Option<SpMat>,
+    /// The rows `U ↦ u_T(x_i)` of the physical slip when the rows of `B_T` are not (Nitsche's
+    /// law rows `u_T − γ σ_T`).
+    pub slip: Option<SpMat>,
 }
 
 impl Friction {
@@ -68,7 +74,19 @@ impl Friction {
             tangents,
             frictionless: 0,
             translation,
+            force: None,
+            slip: None,
         }
+    }
+
+    /// The rows of the tangential force: `B_T`, or Nitsche's `Q_T`.
+    pub fn force_rows(&self) -> &SpMat {
+        self.force.as_ref().unwrap_or(&self.b_t)
+    }
+
+    /// The rows of the physical slip: `B_T`, or Nitsche's `u_T` rows.
+    pub fn slip_rows(&self) -> &SpMat {
+        self.slip.as_ref().unwrap_or(&self.b_t)
     }
 }
 
@@ -84,23 +102,28 @@ pub struct BoundaryPoint {
     pub u_n: Vec<(usize, f64)>,
     /// Row `U ↦ σ_N(U)(x_q) = n·σ(U)n`, the stress of the cell x_q lies in.
     pub sigma_n: Vec<(usize, f64)>,
+    /// Rows `U ↦ u·t_k(x_q)`, the displacement along the plane's tangents t_k (as `B_T`;
+    /// d − 1 of them, none at a 1D end point).
+    pub u_t: Vec<Vec<(usize, f64)>>,
+    /// Rows `U ↦ σ_{T,k}(U)(x_q) = t_k·σ(U)n`, the shear stress along each tangent.
+    pub sigma_t: Vec<Vec<(usize, f64)>>,
     /// Local mesh size over Young's modulus (Nitsche's `γ = h / (γ₀ E)`).
     pub h_over_e: f64,
     /// The vertex rows of its face with their degree-1 hat functions at x_q (shares summing to 1).
     pub vertices: Vec<(usize, f64)>,
 }
 
-/// One contact point's stored energy `a (s · U)² + b [r · U − g₀]₊²` (Nitsche's boundary term:
-/// `s = S_i`, `r = (B_N − γS)_i`).
+/// One contact point's stored energy `a Σ_k (s_k · U)² + b [r · U − g₀]₊²` (Nitsche's boundary
+/// term: `s = S_i` and, with friction, the shear rows `S_{T,i}`; `r = (B_N − γS)_i`).
 #[derive(Debug, Clone)]
 pub struct ContactEnergy {
-    /// Row s.
-    pub s: Vec<(usize, f64)>,
+    /// Rows s_k.
+    pub s: Vec<Vec<(usize, f64)>>,
     /// Row r.
     pub r: Vec<(usize, f64)>,
     /// g₀_i.
     pub g0: f64,
-    /// Coefficient of `(S_i U)²`.
+    /// Coefficient of `Σ_k (s_k U)²`.
     pub a: f64,
     /// Coefficient of the positive part squared.
     pub b: f64,
@@ -111,7 +134,7 @@ impl ContactEnergy {
     pub fn eval(&self, u: &[f64]) -> f64 {
         let dot = |row: &[(usize, f64)]| row.iter().map(|&(j, v)| v * u[j]).sum::<f64>();
         let p = (dot(&self.r) - self.g0).max(0.0);
-        self.a * dot(&self.s).powi(2) + self.b * p * p
+        self.a * self.s.iter().map(|s| dot(s).powi(2)).sum::<f64>() + self.b * p * p
     }
 }
 

@@ -121,7 +121,7 @@ pub fn check_friction(
     }
     if let Err(why) = formulation.friction() {
         return Err(Error::Unsupported(format!(
-            "Coulomb friction is implemented on the nodal and weak contact rows, not with \
+            "Coulomb friction is implemented on the nodal, weak and nitsche contact rows, not with \
              contact = \"{}\": {why}",
             formulation.name()
         )));

@@ -127,18 +127,36 @@ pub(crate) fn residual(
 #[derive(Debug, Clone)]
 pub struct AlartCurnier {
     law: Coulomb,
+    /// Nitsche's `c_i = γ_i/w_i` per point (None: Signorini–Coulomb).
+    compliance: Option<Vec<f64>>,
 }
 
 impl AlartCurnier {
     /// For `law`.
     pub fn new(law: Coulomb) -> Self {
-        Self { law }
+        Self {
+            law,
+            compliance: None,
+        }
+    }
+
+    /// Nitsche's law with friction ([`crate::contact::nitsche`]): `c r = P_{n,μ}(−u)` per point,
+    /// `c = γ/w`, which is Coulomb–Signorini's law on `ũ = u + c r = q + (D + diag(c)) r`; with
+    /// `ρ = 1/c` the Alart–Curnier function is that projection's residual itself.
+    pub fn nitsche(law: Coulomb, compliance: Vec<f64>) -> Self {
+        Self {
+            law,
+            compliance: Some(compliance),
+        }
     }
 }
 
 impl Solver for AlartCurnier {
     fn name(&self) -> &'static str {
-        "alart_curnier"
+        match self.compliance {
+            None => "alart_curnier",
+            Some(_) => "nitsche_alart_curnier",
+        }
     }
 
     fn signorini(&self) -> bool {
@@ -151,7 +169,7 @@ impl Solver for AlartCurnier {
         q: &[f64],
         lambda: &mut [f64],
     ) -> Result<SolveInfo, SolverError> {
-        let (loc, mut r) = Local::gather(&self.law, d, q, lambda)?;
+        let (loc, mut r) = Local::gather(&self.law, d, q, lambda, self.compliance.as_deref())?;
         let (mut norm, mut done) = loc.converged(&r, TOLERANCE);
         for it in 0..MAX_ITERATIONS {
             if done {

@@ -139,7 +139,7 @@ impl Solver for DeSaxce {
         q: &[f64],
         lambda: &mut [f64],
     ) -> Result<SolveInfo, SolverError> {
-        let (loc, mut r) = Local::gather(&self.law, d, q, lambda)?;
+        let (loc, mut r) = Local::gather(&self.law, d, q, lambda, None)?;
         if loc.points.is_empty() {
             lambda.fill(0.0);
             return Ok(SolveInfo::default());

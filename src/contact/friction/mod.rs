@@ -122,12 +122,15 @@ pub(crate) struct Local {
 }
 
 impl Local {
-    /// Gathers the points of `q` not excluded, with the warm start `lambda`.
+    /// Gathers the points of `q` not excluded, with the warm start `lambda`. With `compliance`
+    /// (c_i per point) the operator is `W = D + diag(c)` on every row of point i and `ρ_i = 1/c_i`
+    /// (Nitsche's law, [`crate::contact::nitsche`]).
     pub fn gather(
         law: &Coulomb,
         d: &DMatrix<f64>,
         q: &[f64],
         lambda: &[f64],
+        compliance: Option<&[f64]>,
     ) -> std::result::Result<(Self, DVector<f64>), SolverError> {
         let dim = law.dim();
         let points: Vec<usize> = (0..law.points).filter(|&i| q[i].is_finite()).collect();
@@ -136,14 +139,19 @@ impl Local {
             .iter()
             .flat_map(|&i| (0..dim).map(move |c| law.row(i, c)))
             .collect();
-        let w = DMatrix::from_fn(k, k, |a, b| d[(rows[a], rows[b])]);
+        let mut w = DMatrix::from_fn(k, k, |a, b| d[(rows[a], rows[b])]);
+        if let Some(c) = compliance {
+            for a in 0..k {
+                w[(a, a)] += c[points[a / dim]];
+            }
+        }
         let mut rho = Vec::with_capacity(points.len());
-        for p in 0..points.len() {
+        for (p, &i) in points.iter().enumerate() {
             let wnn = w[(p * dim, p * dim)];
             if wnn.is_nan() || wnn <= 0.0 {
                 return Err(SolverError::NotPositiveDefinite { pivot: wnn });
             }
-            rho.push(1.0 / wnn);
+            rho.push(1.0 / compliance.map_or(wnn, |c| c[i]));
         }
         let local = Self {
             dim,

@@ -86,7 +86,7 @@ impl Solver for ProjectedGaussSeidel {
         q: &[f64],
         lambda: &mut [f64],
     ) -> Result<SolveInfo, SolverError> {
-        let (loc, mut r) = Local::gather(&self.law, d, q, lambda)?;
+        let (loc, mut r) = Local::gather(&self.law, d, q, lambda, None)?;
         let rho_t: Vec<f64> = if loc.dim > 1 {
             (0..loc.points.len())
                 .map(|p| tangential_rho(&loc, p))

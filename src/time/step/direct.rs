@@ -8,9 +8,9 @@
 //! Only the columns of D (and Z) of the points that come into contact are formed, the first time
 //! they enter a step's working set ([`DirectStep::solve_with`]): on a 3D body most points of Γ_C
 //! never touch. With Coulomb friction ([`crate::problem::Friction`]) the rows are stacked,
-//! `[B_N; −B_T]` both as law and force rows (the force `−c B_N^T λ_N + c B_T^T r_T`), so that
-//! the law sees `u_N = o_N − B_N X` and `u_T = o_T + B_T X` (the slip, with the scheme's offset
-//! `o_T`); a point enters and leaves the working set with all its rows. `Z`'s columns are kept while their entries stay within [`STORE_Z_LIMIT`] (for a
+//! `[B_N; −B_T]` both as law and force rows (the force `−c B_N^T λ_N + c B_T^T r_T`; Nitsche's
+//! force rows `[Q; −Q_T]`), so that the law sees `u_N = o_N − B_N X` and `u_T = o_T + B_T X`
+//! (the slip, with the scheme's offset `o_T`); a point enters and leaves the working set with all its rows. `Z`'s columns are kept while their entries stay within [`STORE_Z_LIMIT`] (for a
 //! sparse mass its inertial part is `Z` itself and is not stored twice); otherwise the corrected
 //! state is obtained by a second solve.
 
@@ -27,7 +27,7 @@ const BLOCK: usize = 64;
 pub const STORE_Z_LIMIT: usize = 30_000_000;
 
 /// `Σ v u_j` over a sparse row of `(j, v)`.
-fn row_dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
+pub(super) fn row_dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
     row.iter().map(|&(j, v)| v * u[j]).sum()
 }
 
@@ -89,12 +89,13 @@ impl DirectStep {
         let mut f_rows = linalg::rows(problem.contact.force_rows());
         let mut tangents = 0;
         if let Some(f) = &problem.contact.friction {
-            let minus_bt: Vec<Vec<(usize, f64)>> = linalg::rows(&f.b_t)
-                .into_iter()
-                .map(|row| row.into_iter().map(|(j, v)| (j, -v)).collect())
-                .collect();
-            b_rows.extend(minus_bt.iter().cloned());
-            f_rows.extend(minus_bt);
+            let minus = |rows: &crate::linalg::SpMat| {
+                linalg::rows(rows)
+                    .into_iter()
+                    .map(|row| row.into_iter().map(|(j, v)| (j, -v)).collect::<Vec<_>>())
+            };
+            b_rows.extend(minus(&f.b_t));
+            f_rows.extend(minus(f.force_rows()));
             tangents = f.tangents;
         }
         let nc = b_rows.len();
@@ -290,7 +291,7 @@ impl DirectStep {
             let (normal, tangential) = lambda.split_at(self.points);
             linalg::mul_t_add(&mut self.rhs, problem.contact.force_rows(), normal, -self.c);
             if let Some(f) = &problem.contact.friction {
-                linalg::mul_t_add(&mut self.rhs, &f.b_t, tangential, self.c);
+                linalg::mul_t_add(&mut self.rhs, f.force_rows(), tangential, self.c);
             }
             self.op.solve(&self.rhs, u, w);
         }

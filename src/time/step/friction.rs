@@ -12,7 +12,14 @@
 //! Friction work: `W_f += −r_T · u_T` per step (`r_T · Δs` for a force, `p_T · v_T` for an
 //! impulse, an energy either way), ≥ 0 by Coulomb's law (`r_T = −μ λ_N u_T/‖u_T‖` when
 //! `u_T ≠ 0`) up to the solver's tolerance.
+//!
+//! Nitsche's friction ([`crate::contact::nitsche`]) has law rows `B_T − γ S_T` and force rows
+//! `Q_T = B_T − θ γ S_T` beside its slip rows `B_T`: the offset is `o_T = −B_T Uₙ` (so the law
+//! sees `Δs − γ σ_T(U_{n+1})`) and the work is that of the force it applies,
+//! `W_f += −r_T · Q_T (U_{n+1} − Uₙ) = −r_T · (Δs − θ γ Δσ_T)`, which closes `E + W_f` as the
+//! nodal work does; its sign is measured, not guaranteed (`tests/friction.rs`).
 
+use super::direct::row_dot as dot;
 use crate::linalg;
 use crate::problem::Problem;
 
@@ -28,8 +35,11 @@ pub struct FrictionStep {
     pub offset: Vec<f64>,
     /// Stacked reactions `(λ_N, r_T)` (warm start of the next step).
     pub reaction: Vec<f64>,
-    /// Rows of `B_T`.
-    rows: Vec<Vec<(usize, f64)>>,
+    /// Rows of the slip `B_T` and of the tangential force `Q_T` (both `B_T` but for Nitsche).
+    slip: Vec<Vec<(usize, f64)>>,
+    force: Vec<Vec<(usize, f64)>>,
+    /// `−Q_T Uₙ` at position level, 0 at velocity level: the work is `−r_T · (moved + Q_T X)`.
+    moved: Vec<f64>,
     points: usize,
     /// Friction work `W_f` so far.
     pub work: f64,
@@ -40,22 +50,27 @@ impl FrictionStep {
     pub fn new(problem: &Problem) -> Option<Self> {
         let f = problem.contact.friction.as_ref()?;
         let points = problem.contact.len();
-        let rows = linalg::rows(&f.b_t);
-        let m = points + rows.len();
+        let (slip, force) = (linalg::rows(f.slip_rows()), linalg::rows(f.force_rows()));
+        let m = points + slip.len();
         Some(Self {
             offset: vec![0.0; m],
             reaction: vec![0.0; m],
-            rows,
+            moved: vec![0.0; slip.len()],
+            slip,
+            force,
             points,
             work: 0.0,
         })
     }
 
-    /// Position-level offsets: `o_N = g₀`, `o_T = −B_T Uₙ`.
+    /// Position-level offsets: `o_N = g₀`, `o_T = −B_T Uₙ` (and `−Q_T Uₙ` for the work).
     pub fn position(&mut self, g0: &[f64], u_n: &[f64]) {
         self.offset[..self.points].copy_from_slice(g0);
-        for (o, row) in self.offset[self.points..].iter_mut().zip(&self.rows) {
-            *o = -row.iter().map(|&(j, v)| v * u_n[j]).sum::<f64>();
+        for (o, row) in self.offset[self.points..].iter_mut().zip(&self.slip) {
+            *o = -dot(row, u_n);
+        }
+        for (o, row) in self.moved.iter_mut().zip(&self.force) {
+            *o = -dot(row, u_n);
         }
     }
 
@@ -63,13 +78,15 @@ impl FrictionStep {
     pub fn velocity(&mut self, normal: &[f64]) {
         self.offset[..self.points].copy_from_slice(normal);
         self.offset[self.points..].fill(0.0);
+        self.moved.fill(0.0);
     }
 
-    /// Adds the work of the step, `−r_T · (o_T + B_T X)`, X the step's solution.
+    /// Adds the work of the step, `−r_T · (moved + Q_T X)`, X the step's solution (`Q_T = B_T`
+    /// but for Nitsche: `−r_T · (o_T + B_T X)`).
     pub fn dissipate(&mut self, x: &[f64]) {
-        let (offset, reaction) = (&self.offset[self.points..], &self.reaction[self.points..]);
-        for ((row, o), r) in self.rows.iter().zip(offset).zip(reaction) {
-            let slip = o + row.iter().map(|&(j, v)| v * x[j]).sum::<f64>();
+        let reaction = &self.reaction[self.points..];
+        for ((row, o), r) in self.force.iter().zip(&self.moved).zip(reaction) {
+            let slip = o + dot(row, x);
             self.work -= r * slip;
         }
     }
