@@ -560,11 +560,16 @@ fn nitsche(o: &mut Overrides, gamma0: f64, theta: f64) {
 fn balance(r: &RunResult) -> (f64, f64, f64) {
     let s = series(r);
     let e0 = s[0].2;
-    let step = |f: fn(&[(f64, f64, f64, f64)]) -> f64| {
-        s.windows(2).map(f).fold(f64::INFINITY, f64::min) / e0
-    };
-    let least = step(|w| w[1].3 - w[0].3);
-    let rise = -step(|w| (w[0].2 + w[0].3) - (w[1].2 + w[1].3));
+    let least = s
+        .windows(2)
+        .map(|w| w[1].3 - w[0].3)
+        .fold(f64::INFINITY, f64::min)
+        / e0;
+    let rise = s
+        .windows(2)
+        .map(|w| (w[1].2 + w[1].3) - (w[0].2 + w[0].3))
+        .fold(f64::NEG_INFINITY, f64::max)
+        / e0;
     let drift = s.iter().map(|x| (x.2 + x.3 - e0).abs()).fold(0.0, f64::max) / e0;
     (least, rise, drift)
 }

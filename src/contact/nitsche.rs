@@ -22,6 +22,35 @@
 //! the paper's `E_h = ½ (ρ u̇, u̇) + ½ a(u, u) − ½ ‖γ^{½} σ_n(u)‖² + ½ ‖γ^{−½} [u_n − g − γ σ_n(u)]₊‖²`
 //! − L(u), conserved by the semi-discrete problem for θ = 1.
 //!
+//! Coulomb friction (`friction = μ`): GetFEM's Nitsche contact brick
+//! (`add_Nitsche_contact_with_rigid_obstacle_brick`, `doc/sphinx/source/userdoc/model_Nitsche.rst`,
+//! "Generic Nitsche's method for contact with friction condition", after Chouly, Hild & Renard
+//! and Chouly, "An adaptation of Nitsche's method to the Tresca friction problem", JMAA 411,
+//! 2014): with G = σ(u)n the whole traction, the boundary terms become
+//!
+//! `− θ ∫ γ G·G(v) − ∫ P_{n,μ}(G − (A u − g n − α w_T)/γ) · (v − θ γ G(v))`,
+//!
+//! `P_{n,μ}(x) = −(x·n)₋ n + P_{B(0, μ (x·n)₋)}(x − (x·n) n)` (the normal part on ℝ₋, the
+//! tangential part on the disc of radius μ times the pressure), A = α I + (1 − α) n nᵀ and
+//! α (u_T − w_T) the scheme's slip: here α = 1, w_T = u_T(tₙ), so the tangential argument is
+//! `σ_T(U_{n+1}) − Δs/γ` with the slip increment Δs = u_T(U_{n+1}) − u_T(Uₙ), the position-level
+//! schemes' "Coulomb on the discrete slip" (DESIGN.md §8). Per quadrature point this adds the
+//! tangential rows (tangents t_k = e_k, point-major as the nodal `B_T`): law rows `u_T − γ σ_T`,
+//! force rows `Q_T = u_T − θ γ σ_T`, stiffness `− θ Σ_i w_i γ_i S_{T,i}ᵀ S_{T,i}` and the energy's
+//! `½ (θ − 1) w γ |σ_T|²`, so that E_h's `−½ ‖γ^{½} σ_n‖²` becomes `−½ ‖γ^{½} σ(u)n‖²`. With
+//! `c = γ/w` and the step's `u = q + D r` on the stacked law rows (u_N the law gap, u_T the law
+//! slip `Δs − γσ_T`), the law of point i is `c r = P_{n,μ}(−u)`, r = (λ_N, r_T) its forces
+//! (r_T the shear force on the body, `w σ_T`), and this is exactly Coulomb–Signorini's law on
+//! `ũ = u + c r = q + (D + diag(c)) r`: the projection's residual is the Alart–Curnier function
+//! with ρ = 1/c, solved by its semismooth Newton method ([`AlartCurnier::nitsche`]; in 2D the
+//! residual is piecewise linear, so the step is exact once the open/stick/slip sets repeat; in
+//! 3D the slip direction converges quadratically to the solvers' tolerance). The friction work
+//! is that of the force applied, `−r_T · Q_T (U_{n+1} − Uₙ)` ([`crate::time::step::friction`]).
+//! Every θ ∈ [−1, 1] runs (D is not symmetric for θ ≠ 1; the LU does not need it). Refused:
+//! the cg step (its Newton method solves the normal law only), a pair of bodies and the 1D end
+//! point (no tangent). μ = 0 is the frictionless method above (GetFEM's form at μ = 0 would
+//! keep `−θ ∫ γ σ_T(u) σ_T(v)`, consistent but not the same discrete problem).
+//!
 //! Schemes: Newmark, HHT and backward Euler (contact law at t_{n+1}); Paoli–Schatzman and
 //! Moreau–Jean impose an impact law on the gap, which Nitsche's form has no place for, and the
 //! explicit central difference would need a stability restriction depending on γ₀: they are

@@ -282,15 +282,12 @@ mod tests {
                 assert!((dot(&p.u_n, &shift) + 0.7).abs() < 1e-13, "{el:?}");
                 assert!((dot(&p.sigma_n, &linear) - exact).abs() < 1e-12, "{el:?}");
                 assert_eq!(p.u_t.len(), d - 1, "{el:?}");
-                for k in 0..d - 1 {
+                for (k, (u_t, sigma_t)) in p.u_t.iter().zip(&p.sigma_t).enumerate() {
                     let slide: Vec<f64> = (0..n).map(|j| f64::from(j % d == k)).collect();
                     let shear = -lame.mu * (grad[k][d - 1] + grad[d - 1][k]);
-                    assert!(dot(&p.u_t[k], &shift).abs() < 1e-14, "{el:?}");
-                    assert!((dot(&p.u_t[k], &slide) - 1.0).abs() < 1e-13, "{el:?}");
-                    assert!(
-                        (dot(&p.sigma_t[k], &linear) - shear).abs() < 1e-12,
-                        "{el:?}"
-                    );
+                    assert!(dot(u_t, &shift).abs() < 1e-14, "{el:?}");
+                    assert!((dot(u_t, &slide) - 1.0).abs() < 1e-13, "{el:?}");
+                    assert!((dot(sigma_t, &linear) - shear).abs() < 1e-12, "{el:?}");
                 }
                 let x: f64 = p
                     .vertices

@@ -295,4 +295,39 @@ mod tests {
             "on the cone's boundary: {r:?}"
         );
     }
+
+    /// Nitsche's law (`AlartCurnier::nitsche`) on the two coupled points, W not symmetric (as
+    /// for θ ≠ 1): at the solution, with `u = q + W r`, each point obeys GetFEM's
+    /// `c r_N = [−u_N]₊` and `c r_T = P_{[−μ R, μ R]}(−u_T)`, R = [−u_N]₊, to round-off, in
+    /// the open, stick and slip cases.
+    #[test]
+    fn nitsche_law_is_the_coulomb_projection_of_the_nitsche_vector() {
+        let (law, mut w) = two_points(0.4);
+        w[(0, 2)] = -0.2;
+        let c = [0.7, 1.3];
+        for q in [
+            [-1.0, -0.5, 0.8, -0.1],
+            [-1.0, 0.5, 0.1, 3.0],
+            [-2.0, -0.1, 0.05, -0.02],
+        ] {
+            let mut r = [0.0; 4];
+            let info = AlartCurnier::nitsche(law, c.to_vec())
+                .solve(&w, &q, &mut r)
+                .unwrap();
+            let u: Vec<f64> = (0..4)
+                .map(|a| q[a] + (0..4).map(|b| w[(a, b)] * r[b]).sum::<f64>())
+                .collect();
+            for i in 0..2 {
+                let normal = (-u[i]).max(0.0);
+                let radius = 0.4 * normal;
+                let tangential = (-u[2 + i]).clamp(-radius, radius);
+                assert!((c[i] * r[i] - normal).abs() < 1e-12, "q {q:?}: {r:?}");
+                assert!(
+                    (c[i] * r[2 + i] - tangential).abs() < 1e-12,
+                    "q {q:?}: {r:?}"
+                );
+            }
+            assert!(info.iterations <= 10, "{} iterations", info.iterations);
+        }
+    }
 }
