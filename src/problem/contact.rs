@@ -37,9 +37,10 @@ pub struct Contact {
     pub friction: Option<Friction>,
 }
 
-/// Coulomb friction with coefficient μ at the nodal contact points: the tangential rows
-/// `B_T` (n_c·(d − 1) × n, point-major: row `i (d − 1) + k` is the displacement of point i along
-/// the tangent t_k of the plane) beside the normal rows `B_N`. The reaction `r_T` of point i acts
+/// Coulomb friction with coefficient μ at the contact points (vertices, weak multipliers or
+/// Nitsche's quadrature points): the tangential rows `B_T` (n_c·(d − 1) × n, point-major: row
+/// `i (d − 1) + k` is the displacement of point i along the tangent t_k of the plane) beside
+/// the normal rows `B_N`. The reaction `r_T` of point i acts
 /// on the body as `+B_Tᵀ r_T` and obeys `|r_T| ≤ μ λ_N`, `r_T = −μ λ_N s/|s|` when its slip
 /// `s ≠ 0` (the slip each scheme measures is said in its file).
 #[derive(Debug, Clone)]
