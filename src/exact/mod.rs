@@ -3,6 +3,7 @@
 pub mod bar_flight;
 pub mod bar_impact;
 pub mod hertz;
+pub mod mbf;
 pub mod oblique;
 pub mod roll;
 pub mod slide;
