@@ -2,14 +2,16 @@
 //! incidence of its `[oblique]` table (`--quick`: the quick incidences and level), each giving
 //! the tangential restitution e_t, the rebound spin ω'R/V, the normal restitution e_n and the
 //! impulses; a table and two figures beside the rigid-body limits and Chung & Ooi's curve as
-//! digitised by the Kratos developers ([`crate::exact::oblique`]), and the conclusions computed
-//! from them: the gross-slip agreement with `e_t = 1 − μ(1 + e_n)/tan θ`, and where the stick
-//! regime lies against the band [3/7, 1] and the digitised points.
+//! digitised by the Kratos developers ([`crate::exact::oblique`]) and Maw, Barber & Fawcett's
+//! theory computed by the method of dimensionality reduction ([`crate::exact::mbf`]), and the
+//! conclusions computed from them: the gross-slip agreement with `e_t = 1 − μ(1 + e_n)/tan θ`,
+//! and where the stick regime lies against the band [3/7, 1], MBF and the digitised points.
 
 use super::doc::{Block, Cell, Figure, Rich};
 use super::friction::{par_runs, SECTION};
 use crate::cases::{CaseFile, Overrides};
 use crate::error::Result;
+use crate::exact::mbf::{Mbf, Rebound, Resolution, REPORT_RESOLUTION};
 use crate::exact::oblique::{
     chung_ooi_spin, maw_incidence, nearest, Oblique, CHUNG_OOI_ET, STICK_BAND,
 };
@@ -20,6 +22,19 @@ use std::path::Path;
 /// `|J_t| / (μ J_n)` at least this: the contact slid throughout (Coulomb's equality, to the
 /// contact solver's tolerance and the impulse of the steps where a point sticks).
 pub const GROSS_SLIP: f64 = 0.999;
+
+/// The figures' MBF curve, one impact a degree: a quarter of the table's steps and springs
+/// (second order in both: within 1e-6 of it).
+const CURVE: Resolution = Resolution {
+    steps: REPORT_RESOLUTION.steps / 4,
+    springs: REPORT_RESOLUTION.springs / 4,
+};
+
+/// MBF at θ (degrees) for the case's ν and μ: scale-free (e_n = 1, quasi-static), so at unit
+/// radius, moduli, density and speed.
+fn mbf(reference: &Mbf, theta: f64, res: Resolution) -> Result<Rebound> {
+    reference.impact(1.0, theta.to_radians(), res)
+}
 
 /// One incidence's run.
 #[derive(Debug, Clone, Copy)]
@@ -34,6 +49,8 @@ struct Point {
     slip: f64,
     balance: f64,
     least_work: f64,
+    /// MBF's rebound at this θ.
+    mbf: Rebound,
 }
 
 impl Point {
@@ -45,10 +62,16 @@ impl Point {
             restitution: self.e_n,
         }
     }
+
+    /// The contact point's `w'/w = (v_t' − ω'R)/v_t = e_t − (ω'R/V)/sin θ`.
+    fn contact_point(&self) -> f64 {
+        self.e_t - self.spin / self.theta.to_radians().sin()
+    }
 }
 
 /// The run at incidence θ (degrees) with `o`'s mesh and time step.
-fn point(file: &CaseFile, o: &Overrides, theta: f64, mu: f64) -> Result<Option<Point>> {
+fn point(file: &CaseFile, o: &Overrides, theta: f64, reference: &Mbf) -> Result<Option<Point>> {
+    let (mu, mbf) = (reference.mu, mbf(reference, theta, REPORT_RESOLUTION)?);
     let case = file.build(&Overrides {
         incidence: Some(theta),
         ..o.clone()
@@ -69,6 +92,7 @@ fn point(file: &CaseFile, o: &Overrides, theta: f64, mu: f64) -> Result<Option<P
             slip: m.tangential_impulse?.abs() / (mu * m.normal_impulse?),
             balance: m.friction_balance?,
             least_work: m.friction_work_min_step?,
+            mbf,
         })
     })())
 }
@@ -86,9 +110,13 @@ fn table(points: &[Point], (mu, poisson): (f64, f64)) -> Block {
         "e_t",
         "e_t rigid",
         "e_t Chung & Ooi (digitised)",
+        "e_t MBF (MDR)",
         "ω'R/V",
         "ω'R/V rigid",
         "ω'R/V Chung & Ooi (digitised)",
+        "ω'R/V MBF (MDR)",
+        "w'/w",
+        "w'/w MBF (MDR)",
         "|J_t|/(μJ_n)",
         "max |E + W_f − E₀|/E₀",
         "min ΔW_f",
@@ -116,9 +144,13 @@ fn table(points: &[Point], (mu, poisson): (f64, f64)) -> Block {
                 )
                 .into(),
                 reference(&CHUNG_OOI_ET, p.theta),
+                f4(p.mbf.tangential_restitution),
                 f4(p.spin),
                 f4(rigid.spin()),
                 reference(&spin_ref, p.theta),
+                f4(p.mbf.spin),
+                f4(p.contact_point()),
+                f4(p.mbf.contact_point),
                 f4(p.slip),
                 format!("{:.2e}", p.balance).into(),
                 format!("{:.2e}", p.least_work).into(),
@@ -187,6 +219,7 @@ fn conclusions(points: &[Point], mu: f64) -> Vec<Rich> {
                 "; the largest deviation from Chung & Ooi's digitised points is {w:+.3}"
             ))
         )));
+        out.push(against_mbf(&stuck));
     }
     let balance = points.iter().map(|p| p.balance).fold(0.0, f64::max);
     let least = points
@@ -201,10 +234,71 @@ fn conclusions(points: &[Point], mu: f64) -> Vec<Rich> {
     out
 }
 
+/// Where the sphere does not slide throughout: its e_t and contact point against MBF's, and the
+/// digitised points against MBF's.
+fn against_mbf(stuck: &[&Point]) -> Rich {
+    let rows: Vec<String> = stuck
+        .iter()
+        .map(|p| {
+            format!(
+                "{:.0}°: {:.3} against {:.3}{}",
+                p.theta,
+                p.e_t,
+                p.mbf.tangential_restitution,
+                nearest(&CHUNG_OOI_ET, p.theta)
+                    .map_or(String::new(), |c| format!(" (digitised {:.3})", c.1))
+            )
+        })
+        .collect();
+    let span = |f: &dyn Fn(&Point) -> f64| {
+        let v: Vec<f64> = stuck.iter().map(|p| f(p)).collect();
+        let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+        (lo, v.iter().copied().fold(f64::NEG_INFINITY, f64::max))
+    };
+    let fe = span(&|p| p.e_t - p.mbf.tangential_restitution);
+    let digitised: Vec<f64> = stuck
+        .iter()
+        .filter_map(|p| nearest(&CHUNG_OOI_ET, p.theta).map(|c| c.1 - p.mbf.tangential_restitution))
+        .collect();
+    let worst = digitised
+        .iter()
+        .copied()
+        .max_by(|a, b| a.abs().total_cmp(&b.abs()))
+        .unwrap_or(0.0);
+    let (w, w_mbf) = (span(&|p| p.contact_point()), span(&|p| p.mbf.contact_point));
+    Rich::parse(&format!(
+        "Against Maw, Barber & Fawcett's theory (the method of dimensionality reduction, the same ν \
+         and μ, e_n = 1, no Poisson coupling, quasi-static): e_t {}. The finite elements differ from \
+         it by {:+.3} to {:+.3}, the digitised points by up to {worst:+.3}; the contact point's \
+         `w'/w = (v_t' − ω'R)/v_t` is {:.2} to {:.2} here and {:.2} to {:.2} in MBF.",
+        rows.join(", "),
+        fe.0,
+        fe.1,
+        w.0,
+        w.1,
+        w_mbf.0,
+        w_mbf.1
+    ))
+}
+
 /// e_t(θ) and ω'R/V(θ) beside the rigid limits (e = the runs' mean e_n) and the digitised
 /// points.
-fn figures(points: &[Point], mu: f64, out: &Path, setting: &str) -> Result<Vec<Figure>> {
+fn figures(points: &[Point], reference: &Mbf, out: &Path, setting: &str) -> Result<Vec<Figure>> {
+    let mu = reference.mu;
     let e = points.iter().map(|p| p.e_n).sum::<f64>() / points.len() as f64;
+    let curve = (1..90)
+        .map(|t| Ok((t as f64, mbf(reference, t as f64, CURVE)?)))
+        .collect::<Result<Vec<_>>>()?;
+    let theory = |f: fn(&Rebound) -> f64| -> Series {
+        Series::new(
+            "Maw, Barber & Fawcett (MDR)",
+            curve.iter().map(|(t, r)| (*t, f(r))).collect(),
+            Style {
+                dash: Dash::Long,
+                ..Style::line(PALETTE[2])
+            },
+        )
+    };
     let rigid = |f: fn(&Oblique) -> f64| -> Vec<(f64, f64)> {
         (1..90)
             .map(|t| {
@@ -240,6 +334,7 @@ fn figures(points: &[Point], mu: f64, out: &Path, setting: &str) -> Result<Vec<F
             fe(|p| p.e_t),
             rigid(Oblique::tangential_restitution),
             CHUNG_OOI_ET.to_vec(),
+            theory(|r| r.tangential_restitution),
         ),
         (
             "oblique3d_rebound_spin.png",
@@ -247,12 +342,14 @@ fn figures(points: &[Point], mu: f64, out: &Path, setting: &str) -> Result<Vec<F
             fe(|p| p.spin),
             rigid(Oblique::spin),
             chung_ooi_spin(),
+            theory(|r| r.spin),
         ),
     ];
     let mut figs = Vec::new();
-    for (file, label, fe, rigid, digitised) in plots {
+    for (file, label, fe, rigid, digitised, theory) in plots {
         let series = [
             fe,
+            theory,
             Series::reference(format!("rigid body (e = {e:.3})"), rigid),
             Series::new(
                 "Chung & Ooi, digitised by Kratos",
@@ -271,12 +368,15 @@ fn figures(points: &[Point], mu: f64, out: &Path, setting: &str) -> Result<Vec<F
             case: SECTION.into(),
             alt: format!(
                 "A line plot of the {label} against the incidence angle: the finite element runs, \
-                 the rigid-body limit and Chung & Ooi's digitised points."
+                 Maw, Barber & Fawcett's theory, the rigid-body limit and Chung & Ooi's digitised \
+                 points."
             ),
             caption: format!(
                 "oblique3d ({setting}, μ = {mu}): the {label} against the incidence θ, one run per \
-                 angle; dashed the rigid body (sliding throughout above `tan θ = 7/2 μ(1 + e)`, \
-                 rigid stick below); squares Chung & Ooi's finite element curve (aluminium oxide, \
+                 angle; long dashes Maw, Barber & Fawcett's theory (Hertz + Cattaneo–Mindlin with \
+                 microslip, computed by the method of dimensionality reduction, e_n = 1); dashed the \
+                 rigid body (sliding throughout above `tan θ = 7/2 μ(1 + e)`, rigid stick below); \
+                 squares Chung & Ooi's finite element curve (aluminium oxide, \
                  ν = 0.23, μ = 0.092) as digitised by the Kratos developers from the paper's figure."
             ),
         });
@@ -298,7 +398,8 @@ pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, V
         ..Default::default()
     };
     let mu = study.mu;
-    let points = par_runs(angles, |&theta| point(file, &o, theta, mu))?;
+    let reference = Mbf::sphere(1.0, 1.0, 1.0, study.poisson, mu)?;
+    let points = par_runs(angles, |&theta| point(file, &o, theta, &reference))?;
     if points.is_empty() {
         return Ok((Vec::new(), Vec::new()));
     }
@@ -315,15 +416,17 @@ pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, V
             "**{}**, oblique impact ({setting}, ν = {}, μ = {mu}): one run per incidence θ; e_t and e_n \
              of the centre of mass, the rebound spin `ω'R/V` (angular momentum about the centre of \
              mass over the mesh's moment of inertia), the impulses from the momentum the contact \
-             changed; beside them the rigid body with the measured e_n and Chung & Ooi's finite \
-             element curve (aluminium oxide) as digitised by the Kratos developers from the \
-             paper's figure (the paper is not readable here; the nearest digitised angle in \
-             brackets).",
+             changed; the contact point's `w'/w = (v_t' − ω'R)/v_t`; beside them the rigid body \
+             with the measured e_n, Chung & Ooi's finite element curve (aluminium oxide) as \
+             digitised by the Kratos developers from the paper's figure (the paper is not readable \
+             here; the nearest digitised angle in brackets) and Maw, Barber & Fawcett's theory \
+             computed by the method of dimensionality reduction (MBF (MDR): Hertz + \
+             Cattaneo–Mindlin with microslip and its history, e_n = 1, scale-free).",
             case.kind(),
             study.poisson
         ))),
         table(&points, (mu, study.poisson)),
         Block::List(conclusions(&points, mu)),
     ];
-    Ok((figures(&points, mu, out, &setting)?, blocks))
+    Ok((figures(&points, &reference, out, &setting)?, blocks))
 }
