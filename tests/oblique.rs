@@ -5,7 +5,7 @@
 //! Run with `-- --nocapture` to see the measured numbers quoted in the doc comments.
 
 use dyncontact::cases::{self, Overrides};
-use dyncontact::exact::hertz::{Hertz, DURATION_FACTOR};
+use dyncontact::exact::hertz::DURATION_FACTOR;
 use dyncontact::exact::mbf::{linear_oscillator, Mbf, Rebound, Resolution, REPORT_RESOLUTION};
 use dyncontact::exact::oblique::{Oblique, STICK_BAND};
 use dyncontact::study::metrics::Metrics;
@@ -292,14 +292,7 @@ fn mbf_reference_is_hertz_normally_and_converged() {
         println!("θ = {degrees}°: |Δe_t| {d:.1e}, |Δw'/w| {dw:.1e}");
         assert!(d < 1e-4 && dw < 1e-4, "θ = {degrees}°: not converged");
         let vn = SPEED * degrees.to_radians().cos();
-        let hertz = Hertz {
-            dim: 3,
-            radius: s.radius,
-            e_star: s.e_star,
-            mass: s.mass,
-            speed: vn,
-            compliance: 0.0,
-        };
+        let hertz = s.hertz(vn);
         let tc = DURATION_FACTOR * hertz.max_approach().unwrap() / vn;
         assert!(
             (a.normal_restitution - 1.0).abs() < 1e-6,
@@ -377,14 +370,7 @@ fn mbf_reference_sticks_rigidly_as_the_tangential_stiffness_grows() {
             },
         );
         let vn = SPEED * theta.cos();
-        let hertz = Hertz {
-            dim: 3,
-            radius: s.radius,
-            e_star: s.e_star,
-            mass: s.mass,
-            speed: vn,
-            compliance: 0.0,
-        };
+        let hertz = s.hertz(vn);
         let dmax = hertz.max_approach().unwrap();
         let stored =
             8.0 / 15.0 * (s.mu * s.e_star).powi(2) * dmax.powi(2) * (s.radius * dmax).sqrt()

@@ -133,6 +133,18 @@ impl Mbf {
         self.g_star / self.e_star * incidence.tan() / self.mu
     }
 
+    /// The normal impact at speed v_n: Hertz's.
+    pub fn hertz(&self, normal_speed: f64) -> Hertz {
+        Hertz {
+            dim: 3,
+            radius: self.radius,
+            e_star: self.e_star,
+            mass: self.mass,
+            speed: normal_speed,
+            compliance: 0.0,
+        }
+    }
+
     /// The impact at speed V and incidence θ (radians from the normal, in (0, π/2)), no spin
     /// before.
     pub fn impact(&self, speed: f64, incidence: f64, res: Resolution) -> Result<Rebound> {
@@ -148,15 +160,7 @@ impl Mbf {
             ));
         }
         let (vt, vn) = (speed * incidence.sin(), speed * incidence.cos());
-        let hertz = Hertz {
-            dim: 3,
-            radius: self.radius,
-            e_star: self.e_star,
-            mass: self.mass,
-            speed: vn,
-            compliance: 0.0,
-        };
-        let delta_max = hertz.max_approach().unwrap_or(0.0);
+        let delta_max = self.hertz(vn).max_approach().unwrap_or(0.0);
         let dt = DURATION_FACTOR * delta_max / vn / res.steps as f64;
         let dx = 1.05 * (self.radius * delta_max).sqrt() / res.springs as f64;
         let mut row = Row::new(self, dx, res.springs);
