@@ -21,6 +21,11 @@ fn oblique(theta: f64, n: usize, dt: f64) -> Metrics {
 
 /// As [`oblique`] with the contact `formulation`.
 fn oblique_with(theta: f64, n: usize, dt: f64, formulation: &str) -> Metrics {
+    oblique_in(Path::new("cases/oblique3d.toml"), theta, n, dt, formulation)
+}
+
+/// [`oblique_with`] of the case file `path`.
+fn oblique_in(path: &Path, theta: f64, n: usize, dt: f64, formulation: &str) -> Metrics {
     let mut o = Overrides {
         incidence: Some(theta),
         elements: Some(n),
@@ -28,11 +33,12 @@ fn oblique_with(theta: f64, n: usize, dt: f64, formulation: &str) -> Metrics {
         ..Default::default()
     };
     o.options.contact = Some(formulation.into());
-    let case = cases::load(Path::new("cases/oblique3d.toml"), &o).unwrap();
+    let case = cases::load(path, &o).unwrap();
     let m = run(case.as_ref()).unwrap().summary.metrics;
     println!(
-        "θ = {theta}, n = {n}: e_n {:?}, e_t {:?}, ω' {:?}, J_n {:?}, J_t {:?}, balance {:?}, \
+        "{}: θ = {theta}, n = {n}: e_n {:?}, e_t {:?}, ω' {:?}, J_n {:?}, J_t {:?}, balance {:?}, \
          least ΔW_f {:?}",
+        path.display(),
         m.restitution_eff,
         m.tangential_restitution,
         m.rebound_spin,
@@ -422,4 +428,47 @@ fn mbf_reference_at_small_incidence_depends_only_on_kappa() {
         "κ = 1: {}",
         r.contact_point
     );
+}
+
+/// `cases/oblique3d.toml` at speed V (towards the plane; `--incidence` turns it) with its cap
+/// `facing`, written into `dir`.
+fn at_speed(dir: &Path, speed: f64, facing: f64) -> std::path::PathBuf {
+    let text = std::fs::read_to_string("cases/oblique3d.toml").unwrap();
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| match l.split(" =").next() {
+            Some("velocity") => format!("velocity = {}", -speed),
+            Some("tangential_velocity") => "tangential_velocity = 0.0".into(),
+            Some("facing") => format!("facing = {facing}"),
+            _ => l.into(),
+        })
+        .collect();
+    let path = dir.join(format!("oblique3d_{speed}.toml"));
+    std::fs::write(&path, lines.join("\n")).unwrap();
+    path
+}
+
+/// Why the finite elements stick below MBF (issue 25 §2): MBF is quasi-static, the finite element
+/// sphere is not. At 10° with the contact radius over the pole spacing about 6 (V = 0.03, n = 8,
+/// a larger cap; V = 0.01, n = 12) e_t is 0.388 and 0.471 against MBF's 0.640: the gap
+/// shrinks by 1.49 as V/c falls by 3, close to `(V/c)^{2/5}` = (transit time/contact time)²,
+/// the size of the sphere's own vibration against the contact's. Asserted: e_t rises towards
+/// MBF and the gap shrinks by more than 1.2. About 31 s CPU: run with `--ignored`. Measured with
+/// `dyncontact run` at a/h ≈ 4 (a larger cap at V = 0.03): V = 0.03, 0.01, 0.003, 0.001 with
+/// n = 5, 8, 12, 20 give e_t = 0.362, 0.451, 0.507, 0.540 (the last 130 s CPU, 2.6 GB), gaps
+/// to MBF 0.278, 0.189, 0.133, 0.100: as `V^0.3`. Chung & Ooi's V/c is 25 times ours.
+#[test]
+#[ignore]
+fn the_stick_regime_approaches_mbf_as_the_impact_slows() {
+    let dir = tempfile::tempdir().unwrap();
+    let fast = oblique_in(&at_speed(dir.path(), 0.03, 0.89), 10.0, 8, 0.1, "nodal");
+    let slow = oblique_in(&at_speed(dir.path(), 0.01, 0.95), 10.0, 12, 0.1, "nodal");
+    let theory = mbf(&alumina(), 10.0, REPORT_RESOLUTION).tangential_restitution;
+    let (a, b) = (
+        fast.tangential_restitution.unwrap(),
+        slow.tangential_restitution.unwrap(),
+    );
+    println!("e_t {a:.4} (V = 0.03), {b:.4} (V = 0.01), MBF {theory:.4}");
+    assert!(a < b && b < theory, "e_t {a}, {b} against MBF {theory}");
+    assert!((theory - a) / (theory - b) > 1.2);
 }
