@@ -430,22 +430,38 @@ fn mbf_reference_at_small_incidence_depends_only_on_kappa() {
     );
 }
 
+/// The case file `src` with the lines of `changes` (key, replacement lines) rewritten, as `name`
+/// in `dir`.
+fn rewritten(dir: &Path, src: &str, name: &str, changes: &[(&str, String)]) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(src).unwrap();
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| {
+            let key = l.split(" =").next().unwrap_or("");
+            changes
+                .iter()
+                .find(|c| c.0 == key)
+                .map_or_else(|| l.to_string(), |c| c.1.clone())
+        })
+        .collect();
+    let path = dir.join(name);
+    std::fs::write(&path, lines.join("\n")).unwrap();
+    path
+}
+
 /// `cases/oblique3d.toml` at speed V (towards the plane; `--incidence` turns it) with its cap
 /// `facing`, written into `dir`.
 fn at_speed(dir: &Path, speed: f64, facing: f64) -> std::path::PathBuf {
-    let text = std::fs::read_to_string("cases/oblique3d.toml").unwrap();
-    let lines: Vec<String> = text
-        .lines()
-        .map(|l| match l.split(" =").next() {
-            Some("velocity") => format!("velocity = {}", -speed),
-            Some("tangential_velocity") => "tangential_velocity = 0.0".into(),
-            Some("facing") => format!("facing = {facing}"),
-            _ => l.into(),
-        })
-        .collect();
-    let path = dir.join(format!("oblique3d_{speed}.toml"));
-    std::fs::write(&path, lines.join("\n")).unwrap();
-    path
+    rewritten(
+        dir,
+        "cases/oblique3d.toml",
+        &format!("oblique3d_{speed}.toml"),
+        &[
+            ("velocity", format!("velocity = {}", -speed)),
+            ("tangential_velocity", "tangential_velocity = 0.0".into()),
+            ("facing", format!("facing = {facing}")),
+        ],
+    )
 }
 
 /// Why the finite elements stick below MBF (issue 25 §2): MBF is quasi-static, the finite element
@@ -471,4 +487,56 @@ fn the_stick_regime_approaches_mbf_as_the_impact_slows() {
     println!("e_t {a:.4} (V = 0.03), {b:.4} (V = 0.01), MBF {theory:.4}");
     assert!(a < b && b < theory, "e_t {a}, {b} against MBF {theory}");
     assert!((theory - a) / (theory - b) > 1.2);
+}
+
+/// The rest of the gap at small incidence is Poisson coupling, which MBF leaves out (Dundurs'
+/// β = 0) and an elastic sphere on a rigid plane has (β = 0.35 at ν = 0.23). Two equal spheres
+/// (`cases/two_spheres.toml` with ν = 0.23, μ = 0.092, n = 8) have β = 0 and, in their centre of
+/// mass frame, each is the sphere on the plane at V = 0.01, θ = 10° (body 1 at `−v_n` and `2 v_t`,
+/// body 2 at `+v_n`; the same κ, time and length scales): e_t = 0.533 against the plane's 0.451
+/// and MBF's 0.640 (n = 12: 0.553 and 0.471). Measured with `dyncontact run` at 5° and 20°:
+/// 0.575 against 0.447, and 0.537 against 0.548: coupling matters where the tangential energy
+/// is small (a frictional normal impact dissipates 0.7 % of E(0) by radial microslip; the
+/// tangential energy is 0.8 % of it at 5°, 3 % at 10°, 12 % at 20°). Asserted at 10°: the pair
+/// above the plane by more than 0.05 and below MBF. About 10 s CPU: run with `--ignored`.
+#[test]
+#[ignore]
+fn without_poisson_coupling_the_stick_regime_is_nearer_mbf() {
+    let dir = tempfile::tempdir().unwrap();
+    let theta = 10f64.to_radians();
+    let (vn, vt) = (SPEED * theta.cos(), SPEED * theta.sin());
+    let pair = rewritten(
+        dir.path(),
+        "cases/two_spheres.toml",
+        "pair.toml",
+        &[
+            ("poisson", "poisson = 0.23".into()),
+            (
+                "velocity",
+                format!("velocity = {}\ntangential_velocity = {}", -vn, 2.0 * vt),
+            ),
+            ("facing", format!("facing = 0.95\nfriction = {MU}")),
+        ],
+    );
+    let o = Overrides {
+        elements: Some(8),
+        dt: Some(0.1),
+        t_end: Some(30.0),
+        ..Default::default()
+    };
+    let rows = run(cases::load(&pair, &o).unwrap().as_ref()).unwrap().rows;
+    let (first, last) = (
+        rows[0].friction.unwrap().0,
+        rows[rows.len() - 1].friction.unwrap().0,
+    );
+    assert_eq!(rows[rows.len() - 1].force_contact, 0.0, "still in contact");
+    // Body 1's tangential velocity in the centre of mass frame (equal masses): v − v₀/2.
+    let e_t = (last - 0.5 * first) / (0.5 * first);
+    let plane = oblique(10.0, 8, 0.1).tangential_restitution.unwrap();
+    let theory = mbf(&alumina(), 10.0, REPORT_RESOLUTION).tangential_restitution;
+    println!("e_t: pair {e_t:.4}, plane {plane:.4}, MBF {theory:.4}");
+    assert!(
+        e_t > plane + 0.05 && e_t < theory,
+        "pair {e_t}, plane {plane}, MBF {theory}"
+    );
 }
