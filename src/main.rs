@@ -62,6 +62,11 @@ enum Command {
         /// scheme, parameters and level) and run the others.
         #[arg(long)]
         resume: bool,
+        /// Write the wall and CPU time of every run and report section, as each ends, to this
+        /// CSV (`study::profile`); with `RAYON_NUM_THREADS=1` the runs do not overlap and each
+        /// line's `cpu_s` is that run's own.
+        #[arg(long, value_name = "FILE")]
+        profile: Option<PathBuf>,
     },
     /// Join record files of `sweep --shard i/n` runs into a report (no time histories).
     Merge {
@@ -258,7 +263,11 @@ fn main_result(cli: Cli) -> Result<()> {
             case,
             quick,
             resume,
+            profile,
         } => {
+            if let Some(p) = &profile {
+                dyncontact::study::profile::start(p)?;
+            }
             let opts = dyncontact::report::Options {
                 quick,
                 progress: true,

@@ -34,6 +34,7 @@ use crate::study::jobs::{self, RunRecord};
 use crate::study::journal::{self, run_study_with, Extra};
 use crate::study::orders;
 use crate::study::peers::{self, Agreement};
+use crate::study::profile;
 use crate::study::records::{read_records, write_records, write_timings};
 use crate::study::reference;
 use crate::study::schedule::Estimate;
@@ -66,6 +67,9 @@ pub struct CaseEntry {
     /// The case file, relative to the report directory (None in a merged report).
     pub file: Option<String>,
 }
+
+/// A section study of a case file: its figures and blocks.
+type Study = fn(&CaseFile, &Path, bool) -> Result<(Vec<Figure>, Vec<doc::Block>)>;
 
 /// Case files with `[[sweep]]` tables in `dir`, sorted by name, each read and parsed once.
 pub fn case_files(dir: &Path) -> Result<Vec<Arc<CaseFile>>> {
@@ -156,17 +160,25 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
         .map(|f| {
             Ok(Extra {
                 estimate: figures_estimate(f, opts.quick)?,
-                work: Box::new(move || case_figures(f, out, opts.quick)),
+                work: Box::new(move || {
+                    profile::section(&format!("figures {}", f.stem()), || {
+                        case_figures(f, out, opts.quick)
+                    })
+                }),
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    let (mut records, per_case) = run_study_with(
-        &all,
-        (out, "journal.csv"),
-        (opts.resume, opts.progress),
-        &extras,
-    )?;
-    reference::reference_errors(&mut records);
+    let (mut records, per_case) = profile::section("sweeps and figures", || {
+        run_study_with(
+            &all,
+            (out, "journal.csv"),
+            (opts.resume, opts.progress),
+            &extras,
+        )
+    })?;
+    profile::section("reference errors", || {
+        reference::reference_errors(&mut records)
+    });
     journal::rewrite(out, "journal.csv", &all, &records)?;
     let mut figures = Vec::new();
     let mut slides = Vec::new();
@@ -175,10 +187,14 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
         let case = f.build(&Default::default())?;
         if let Some(s) = case.slide() {
             slides.push((case.kind().to_string(), s));
-            figures.extend(friction::figures(f, out, opts.quick)?);
+            figures.extend(profile::section(&format!("friction {}", f.stem()), || {
+                friction::figures(f, out, opts.quick)
+            })?);
         }
-        for study in [oblique::study, roll::study] {
-            let (f, blocks) = study(f, out, opts.quick)?;
+        for (name, study) in [("oblique", oblique::study as Study), ("roll", roll::study)] {
+            let (f, blocks) = profile::section(&format!("{name} {}", f.stem()), || {
+                study(f, out, opts.quick)
+            })?;
             figures.extend(f);
             studies.extend(blocks);
         }
@@ -189,18 +205,22 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
         .unwrap_or(Path::new(""))
         .join("golden/peers");
     let stems: Vec<String> = files.iter().map(|f| f.stem()).collect();
-    let agreements = peers::compare_all(&peers_dir, cases_dir, &stems)?;
+    let agreements = profile::section("peers", || {
+        peers::compare_all(&peers_dir, cases_dir, &stems)
+    })?;
     if !agreements.is_empty() {
         peers::write_cross_code(&out.join("cross_code.csv"), &agreements)?;
     }
     let cases = copy_cases(&files, out)?;
-    write(
-        out,
-        &records,
-        figures,
-        (&agreements, (&slides, &studies)),
-        (&cases, opts.quick),
-    )?;
+    profile::section("write", || {
+        write(
+            out,
+            &records,
+            figures,
+            (&agreements, (&slides, &studies)),
+            (&cases, opts.quick),
+        )
+    })?;
     Ok(records)
 }
 

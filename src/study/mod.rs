@@ -14,6 +14,7 @@ pub mod lock;
 pub mod metrics;
 pub mod orders;
 pub mod peers;
+pub mod profile;
 pub mod records;
 pub mod reference;
 pub mod run;

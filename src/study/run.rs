@@ -137,6 +137,32 @@ pub fn run_with_output(
     progress: bool,
     fields: Option<&FieldOutput>,
 ) -> Result<RunResult> {
+    let timer = super::profile::Timer::start();
+    let result = simulate(case, progress, fields);
+    if let Some(t) = timer {
+        let spec = case.run();
+        let (dofs, status) = result
+            .as_ref()
+            .map_or((0, "error"), |r| (r.summary.dofs, "ok"));
+        t.stop(
+            "run",
+            &format!(
+                "{} {} {} {} h={:.4e} dt={:.4e} steps={} dofs={dofs} {status}",
+                case.kind(),
+                spec.space,
+                spec.scheme,
+                spec.parameters().unwrap_or_default(),
+                case.h(),
+                spec.dt,
+                spec.steps()
+            ),
+        );
+    }
+    result
+}
+
+/// The run of [`run_with_output`].
+fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Result<RunResult> {
     let spec = case.run();
     // The bodies written and, for several, each row's force on their Γ_C vertices.
     let bodies = case.multi_body();

@@ -1,0 +1,112 @@
+//! `report --profile FILE`: where a report's time goes. One CSV line per simulation and per
+//! report section as it ends: `kind` (`run` or `section`), `task`, `start_s` and `end_s` since
+//! the profile began, `wall_s`, `cpu_s` (user + system time of the whole process over the task,
+//! from `/proc/self/stat`: the task's own CPU time when tasks do not overlap, e.g. under
+//! `RAYON_NUM_THREADS=1`, which gives the report one worker), `thread_cpu_s` (the calling
+//! thread's alone) and `rss_mb` (the process's resident memory at the end). A section's line
+//! includes its runs. Off unless [`start`] was called; the report's outputs do not change.
+
+use crate::error::{Error, Result};
+use std::io::Write;
+use std::path::Path;
+use std::sync::{Mutex, OnceLock};
+use std::time::Instant;
+
+/// The open profile and the instant it began.
+static PROFILE: OnceLock<(Mutex<std::fs::File>, Instant)> = OnceLock::new();
+
+/// Clock ticks per second of `/proc/*/stat` (`USER_HZ`, 100 on every Linux ABI).
+const TICKS: f64 = 100.0;
+
+/// Starts profiling into `path` (a new CSV with its header).
+pub fn start(path: &Path) -> Result<()> {
+    let mut file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+    writeln!(
+        file,
+        "kind,task,start_s,end_s,wall_s,cpu_s,thread_cpu_s,rss_mb"
+    )
+    .map_err(|e| Error::io(path, e))?;
+    // A second start keeps the first profile.
+    let _ = PROFILE.set((Mutex::new(file), Instant::now()));
+    Ok(())
+}
+
+/// User + system seconds of `/proc/<which>/stat` (`self` or `thread-self`).
+fn cpu(which: &str) -> f64 {
+    let Ok(stat) = std::fs::read_to_string(format!("/proc/{which}/stat")) else {
+        return f64::NAN;
+    };
+    // Fields after the command name (in parentheses, which may hold spaces): utime and stime
+    // are the 14th and 15th fields, the 12th and 13th after it.
+    let rest = stat.rsplit_once(')').map_or("", |r| r.1);
+    let ticks: Vec<f64> = rest
+        .split_whitespace()
+        .skip(11)
+        .take(2)
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    ticks.iter().sum::<f64>() / TICKS
+}
+
+/// Resident memory of the process now, MB (`VmRSS`).
+fn rss_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            let line = s.lines().find(|l| l.starts_with("VmRSS:"))?;
+            line.split_whitespace().nth(1)?.parse::<f64>().ok()
+        })
+        .map_or(f64::NAN, |kib| kib / 1024.0)
+}
+
+/// A task being timed.
+pub struct Timer {
+    start: Instant,
+    cpu: f64,
+    thread_cpu: f64,
+}
+
+impl Timer {
+    /// Starts timing a task (None when not profiling).
+    pub fn start() -> Option<Self> {
+        PROFILE.get()?;
+        Some(Self {
+            start: Instant::now(),
+            cpu: cpu("self"),
+            thread_cpu: cpu("thread-self"),
+        })
+    }
+
+    /// Writes the task's line: `kind` and its name `task`.
+    pub fn stop(self, kind: &str, task: &str) {
+        let Some((file, began)) = PROFILE.get() else {
+            return;
+        };
+        let at = |i: Instant| i.duration_since(*began).as_secs_f64();
+        let now = Instant::now();
+        let line = format!(
+            "{kind},\"{}\",{:.3},{:.3},{:.3},{:.2},{:.2},{:.0}\n",
+            task.replace('"', "'"),
+            at(self.start),
+            at(now),
+            now.duration_since(self.start).as_secs_f64(),
+            cpu("self") - self.cpu,
+            cpu("thread-self") - self.thread_cpu,
+            rss_mb()
+        );
+        if let Ok(mut f) = file.lock() {
+            // The profile is a diagnostic: a failed write does not stop the report.
+            let _ = f.write_all(line.as_bytes());
+        }
+    }
+}
+
+/// Runs `f` as the section `task` of the profile.
+pub fn section<R>(task: &str, f: impl FnOnce() -> R) -> R {
+    let timer = Timer::start();
+    let r = f();
+    if let Some(t) = timer {
+        t.stop("section", task);
+    }
+    r
+}
