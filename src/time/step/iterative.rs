@@ -13,8 +13,8 @@
 //! and likewise when row i is `b_i e_{d_i}ᵀ + Σ_j b_ij e_jᵀ` with a dof d_i of its own (in no
 //! other row, and no row's own dof among the j: the slave's normal dof of a node-to-segment pair
 //! of two bodies, [`own_dofs`]): on 𝒜 the row ties `U_{d_i} = (o_i − Σ_j b_ij U_j) / b_i`, CG
-//! solves `Tᵀ A T Y = Tᵀ (r − A U₀)` on the untied dofs ([`Pcg::set_ties`], its factored block
-//! refactored with the ties when 𝒜 changes: it holds both bodies' caps), λ_i is read off row
+//! solves `Tᵀ A T Y = Tᵀ (r − A U₀)` on the untied dofs ([`Pcg::set_ties`]; the preconditioner
+//! stays A's, its factored block holding both bodies' caps), λ_i is read off row
 //! d_i as above and `g_i = o_i − b_i U_{d_i} − Σ_j b_ij U_j` off 𝒜.
 //! - 𝒜 ← {i ∈ 𝒜 : λ_i ≥ −τ_λ} ∪ {i ∉ 𝒜 : g_i < −τ_g}, until 𝒜 no longer changes.
 //!
@@ -143,7 +143,8 @@ impl IterativeStep {
         let n = a.nrows();
         let mut block = massless_neighbourhood(m, k);
         if others.iter().any(|o| !o.is_empty()) {
-            // Pair rows: the ties couple every dof of the rows in the factored block.
+            // Pair rows: every dof of the rows in the factored block (two_spheres, 300 steps:
+            // 70 s CPU, against 78 s with the massless dofs alone).
             let mut in_block = vec![false; n];
             let rows = points.iter().map(|p| p.0);
             for i in block
@@ -173,7 +174,7 @@ impl IterativeStep {
     pub fn solve_free(&mut self, r: &[f64], u: &mut [f64], w: &mut [f64]) -> Result<()> {
         self.free.fill(true);
         self.active.fill(false);
-        self.tie_active()?;
+        self.tie_active();
         self.history.extrapolate(u);
         self.cg(r, u, (0, f64::NAN), None)?;
         self.history.remember(u);
@@ -225,9 +226,9 @@ impl IterativeStep {
 
     /// Gives CG's matrix the ties of the active pair rows, `U_{d_i} = −Σ_j (b_ij / b_i) U_j`
     /// (nothing to do for nodal contact).
-    fn tie_active(&mut self) -> Result<()> {
+    fn tie_active(&mut self) {
         if self.tied == self.active || self.others.iter().all(|o| o.is_empty()) {
-            return Ok(());
+            return;
         }
         let ties = (0..self.points.len())
             .filter(|&i| self.active[i])
@@ -239,9 +240,8 @@ impl IterativeStep {
                 )
             })
             .collect();
-        self.pcg.set_ties(ties, NAME)?;
+        self.pcg.set_ties(ties);
         self.tied.clone_from(&self.active);
-        Ok(())
     }
 
     /// One update of the active set from `u` with the thresholds `tau`, writing `λ` on the
@@ -276,7 +276,7 @@ impl IterativeStep {
         (step, time): (usize, f64),
         stop: Option<(&[f64], (f64, f64))>,
     ) -> Result<()> {
-        self.tie_active()?;
+        self.tie_active();
         let Self {
             pcg,
             rows,
