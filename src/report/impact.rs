@@ -23,8 +23,9 @@ use crate::output::field_plot::{cell_map, scatter_plot, Cell, Labels};
 use crate::output::fmt_float;
 use crate::output::plot::{time_plot, Dash, Marker, Series, Style};
 use crate::study::finite_body::{finite_body, FiniteBody};
+use crate::study::jobs::Job;
 use crate::study::metrics::ImpactMeasures;
-use crate::study::run::{run, Peak};
+use crate::study::run::{run, Peak, RunResult};
 use std::path::Path;
 
 /// Samples of Hertz's quasi-static force history drawn.
@@ -46,14 +47,40 @@ pub fn impact_overrides(file: &CaseFile, quick: bool) -> Result<Overrides> {
     Ok(o)
 }
 
-/// The impact figures of `file`, or none when the case has no Hertz reference.
-pub fn impact_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> {
+/// The key of the job of `jobs` that runs the impact figures' run of `file`, if any (hertz3d's
+/// defaults are its sweep's finest level of the mass redistribution): the figures are then
+/// drawn from that run, made once.
+pub fn sweep_run(file: &CaseFile, quick: bool, jobs: &[Job]) -> Result<Option<String>> {
+    let o = impact_overrides(file, quick)?;
+    let case = file.build(&o)?;
+    if case.impact().is_none() {
+        return Ok(None);
+    }
+    for j in jobs {
+        if j.runs(file, &o, case.as_ref())? {
+            return Ok(Some(j.key.clone()));
+        }
+    }
+    Ok(None)
+}
+
+/// The impact figures of `file`, or none when the case has no Hertz reference; `given` is their
+/// run when it was made already ([`sweep_run`]).
+pub fn impact_figures(
+    file: &CaseFile,
+    out: &Path,
+    quick: bool,
+    given: Option<RunResult>,
+) -> Result<Vec<Figure>> {
     let case = file.build(&impact_overrides(file, quick)?)?;
     let Some(impact) = case.impact() else {
         return Ok(Vec::new());
     };
     let kind = case.kind();
-    let r = run(case.as_ref())?;
+    let r = match given {
+        Some(r) => r,
+        None => run(case.as_ref())?,
+    };
     let peak = r
         .peak
         .as_ref()

@@ -37,6 +37,7 @@ use crate::study::peers::{self, Agreement};
 use crate::study::profile;
 use crate::study::records::{read_records, write_records, write_timings};
 use crate::study::reference;
+use crate::study::run::RunResult;
 use crate::study::schedule::Estimate;
 use doc::Figure;
 use figures::{convergence_figures, time_histories};
@@ -160,9 +161,10 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
         .map(|f| {
             Ok(Extra {
                 estimate: figures_estimate(f, opts.quick)?,
-                work: Box::new(move || {
+                job: impact::sweep_run(f, opts.quick, &all)?,
+                work: Box::new(move |run| {
                     profile::section(&format!("figures {}", f.stem()), || {
-                        case_figures(f, out, opts.quick)
+                        case_figures(f, out, opts.quick, run)
                     })
                 }),
             })
@@ -224,11 +226,17 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
     Ok(records)
 }
 
-/// The time-history figures of a case file, or its impact figures for a curved body.
-fn case_figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> {
+/// The time-history figures of a case file, or its impact figures for a curved body (from
+/// `run` when the sweep's run is the impact run, [`impact::sweep_run`]).
+fn case_figures(
+    file: &CaseFile,
+    out: &Path,
+    quick: bool,
+    run: Option<RunResult>,
+) -> Result<Vec<Figure>> {
     let case = file.build(&Overrides::default())?;
     if case.impact().is_some() {
-        impact::impact_figures(file, out, quick)
+        impact::impact_figures(file, out, quick, run)
     } else {
         time_histories(file, case.as_ref(), out, quick)
     }

@@ -47,6 +47,25 @@ impl Job {
     pub fn estimate(&self) -> Estimate {
         estimate(self.size, self.steps, &self.space)
     }
+
+    /// Whether this job runs what `case`, built from `file` with `o`, runs: the same case file,
+    /// the same run table after the overrides, the same mesh (size, cell, h) and the same
+    /// case-level overrides (mesh file, friction, incidence).
+    pub fn runs(&self, file: &CaseFile, o: &cases::Overrides, case: &dyn Case) -> Result<bool> {
+        if self.file.path != file.path
+            || self.file.hash != file.hash
+            || (
+                &self.overrides.mesh,
+                self.overrides.friction,
+                self.overrides.incidence,
+            ) != (&o.mesh, o.friction, o.incidence)
+            || self.size != file.size(o)
+        {
+            return Ok(false);
+        }
+        let mine = self.file.build(&self.overrides)?;
+        Ok(mine.run() == case.run() && mine.h() == case.h() && mine.element() == case.element())
+    }
 }
 
 /// The cost model of a run, by space dimension (0 to 3; the spring–mass is 0): microseconds per
@@ -272,31 +291,44 @@ pub fn run_jobs(jobs: &[Job], progress: bool) -> Vec<RunRecord> {
 
 /// Runs one job and classifies its outcome.
 pub fn run_job(job: &Job) -> RunRecord {
+    run_job_keeping(job).0
+}
+
+/// As [`run_job`], also returning the run itself when it finished (for a figure drawn from it).
+pub fn run_job_keeping(job: &Job) -> (RunRecord, Option<RunResult>) {
     let failed = |e: Error, case: Option<&dyn Case>| {
         (Status::of(&e), e.to_string(), failed_summary(job, case))
     };
     let mut probe = Vec::new();
+    let mut result = None;
     let (status, reason, summary) = match job.file.build(&job.overrides) {
         Err(e) => failed(e, None),
         Ok(case) => match run::run(case.as_ref()) {
             Err(e) => failed(e, Some(case.as_ref())),
-            Ok(RunResult { summary, .. }) if summary.metrics.energy_drift > BLOWUP_FACTOR => (
-                Status::Diverged,
-                format!("energy exceeded {BLOWUP_FACTOR} × E(0)"),
-                summary,
-            ),
-            Ok(RunResult { summary, rows, .. }) => {
-                if case.exact().is_none() {
-                    probe = rows
-                        .iter()
-                        .map(|r| (r.t, r.u_contact, r.sigma_contact))
-                        .collect();
-                }
-                (Status::Ok, String::new(), summary)
+            Ok(r) => {
+                let summary = r.summary.clone();
+                let outcome = if summary.metrics.energy_drift > BLOWUP_FACTOR {
+                    (
+                        Status::Diverged,
+                        format!("energy exceeded {BLOWUP_FACTOR} × E(0)"),
+                        summary,
+                    )
+                } else {
+                    if case.exact().is_none() {
+                        probe = r
+                            .rows
+                            .iter()
+                            .map(|r| (r.t, r.u_contact, r.sigma_contact))
+                            .collect();
+                    }
+                    (Status::Ok, String::new(), summary)
+                };
+                result = Some(r);
+                outcome
             }
         },
     };
-    RunRecord {
+    let record = RunRecord {
         key: job.key.clone(),
         sweep: job.sweep.clone(),
         level: job.level,
@@ -304,7 +336,8 @@ pub fn run_job(job: &Job) -> RunRecord {
         reason,
         summary,
         probe,
-    }
+    };
+    (record, result)
 }
 
 /// Identification of a run that produced no metrics.

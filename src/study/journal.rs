@@ -12,8 +12,9 @@
 //! The outputs are always computed from what the journal holds, read back, so an interrupted
 //! and resumed study writes the same bytes as an uninterrupted one.
 
-use super::jobs::{run_job, runs_bar, Job, RunRecord};
+use super::jobs::{run_job, run_job_keeping, runs_bar, Job, RunRecord};
 use super::records::{read_rows, record_fields, record_header};
+use super::run::RunResult;
 use super::schedule::{self, Estimate};
 use crate::error::{Error, Result};
 use crate::input::{Input, TABLE};
@@ -166,8 +167,12 @@ pub fn run_study(
 pub struct Extra<'a, R> {
     /// Its estimated cost.
     pub estimate: Estimate,
-    /// The task.
-    pub work: Box<dyn Fn() -> R + Sync + 'a>,
+    /// The key of a job whose run the task draws from: the task runs and records it, and
+    /// passes it to `work` (None when the journal holds it already), instead of the study
+    /// running it apart.
+    pub job: Option<String>,
+    /// The task, given that run.
+    pub work: Box<dyn Fn(Option<RunResult>) -> R + Sync + 'a>,
 }
 
 /// One task of [`run_study_with`].
@@ -201,6 +206,16 @@ pub fn run_study_with<R: Send>(
         .iter()
         .filter(|j| !done_keys.contains(&(j.key.as_str(), j.file.hash.as_str())))
         .collect();
+    // The runs the extras make, by key.
+    let shared: HashMap<&str, &Job> = todo
+        .iter()
+        .filter(|j| {
+            extras
+                .iter()
+                .any(|e| e.job.as_deref() == Some(j.key.as_str()))
+        })
+        .map(|j| (j.key.as_str(), *j))
+        .collect();
     if resume && !done.is_empty() && progress {
         eprintln!(
             "resuming: {} of {} runs already recorded",
@@ -211,6 +226,7 @@ pub fn run_study_with<R: Send>(
     let bar = runs_bar(todo.len(), progress);
     let tasks: Vec<Task<'_, '_, R>> = todo
         .iter()
+        .filter(|j| !shared.contains_key(j.key.as_str()))
         .map(|j| Task::Run(j))
         .chain(extras.iter().map(Task::Extra))
         .collect();
@@ -224,16 +240,21 @@ pub fn run_study_with<R: Send>(
             bar.inc(1);
             (Some(journal.append(&j.file.hash, &r)), None)
         }
-        Task::Extra(e) => (None, Some((e.work)())),
+        Task::Extra(e) => match e.job.as_deref().and_then(|k| shared.get(k)) {
+            Some(j) => {
+                let (r, result) = run_job_keeping(j);
+                bar.inc(1);
+                let appended = journal.append(&j.file.hash, &r);
+                (Some(appended), Some((e.work)(result)))
+            }
+            None => (None, Some((e.work)(None))),
+        },
     });
     bar.finish_and_clear();
     let mut results = Vec::with_capacity(extras.len());
-    for d in done {
-        match d {
-            (Some(appended), _) => appended?,
-            (_, Some(r)) => results.push(r),
-            _ => {}
-        }
+    for (appended, r) in done {
+        appended.transpose()?;
+        results.extend(r);
     }
     let text = JOURNAL.read(&journal.path)?;
     let all: HashMap<(String, String), RunRecord> = read_journal(&text, &journal.path)?
