@@ -330,7 +330,7 @@ pub fn section(
 /// friction sweeps of a slide case (coarsest level; colour by space, dash by scheme), beside
 /// the rigid slide; none for a case without one.
 pub fn figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> {
-    let case = file.build(&Default::default())?;
+    let case = file.defaults()?;
     let Some(exact) = case.slide() else {
         return Ok(Vec::new());
     };

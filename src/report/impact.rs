@@ -15,7 +15,7 @@
 
 use super::doc::Figure;
 use super::style;
-use crate::cases::{CaseFile, Impact, Overrides};
+use crate::cases::{Case, CaseFile, Impact, Overrides};
 use crate::error::{Error, Result};
 use crate::fem::discretisation::Discretisation;
 use crate::output::csv::write_rows;
@@ -27,6 +27,7 @@ use crate::study::jobs::Job;
 use crate::study::metrics::ImpactMeasures;
 use crate::study::run::{run, Peak, RunResult};
 use std::path::Path;
+use std::sync::Arc;
 
 /// Samples of Hertz's quasi-static force history drawn.
 const HERTZ_SAMPLES: usize = 400;
@@ -38,7 +39,7 @@ const ZOOM: f64 = 4.0;
 pub fn impact_overrides(file: &CaseFile, quick: bool) -> Result<Overrides> {
     let mut o = Overrides::default();
     if quick {
-        let case = file.build(&o)?;
+        let case = file.defaults()?;
         if let Some(sweep) = case.sweeps().first() {
             let level = sweep.refinements(true)?[0];
             (o.elements, o.dt, o.t_end) = (level.elements, Some(level.dt), sweep.t_end);
@@ -47,12 +48,22 @@ pub fn impact_overrides(file: &CaseFile, quick: bool) -> Result<Overrides> {
     Ok(o)
 }
 
+/// The overrides of the impact figures' run ([`impact_overrides`]) and its case.
+fn impact_case(file: &CaseFile, quick: bool) -> Result<(Overrides, Arc<dyn Case>)> {
+    let o = impact_overrides(file, quick)?;
+    let case = if quick {
+        file.build(&o)?.into()
+    } else {
+        file.defaults()?
+    };
+    Ok((o, case))
+}
+
 /// The key of the job of `jobs` that runs the impact figures' run of `file`, if any (hertz3d's
 /// defaults are its sweep's finest level of the mass redistribution): the figures are then
 /// drawn from that run, made once.
 pub fn sweep_run(file: &CaseFile, quick: bool, jobs: &[Job]) -> Result<Option<String>> {
-    let o = impact_overrides(file, quick)?;
-    let case = file.build(&o)?;
+    let (o, case) = impact_case(file, quick)?;
     if case.impact().is_none() {
         return Ok(None);
     }
@@ -72,7 +83,7 @@ pub fn impact_figures(
     quick: bool,
     given: Option<RunResult>,
 ) -> Result<Vec<Figure>> {
-    let case = file.build(&impact_overrides(file, quick)?)?;
+    let (_, case) = impact_case(file, quick)?;
     let Some(impact) = case.impact() else {
         return Ok(Vec::new());
     };

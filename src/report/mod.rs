@@ -77,9 +77,7 @@ pub fn case_files(dir: &Path) -> Result<Vec<Arc<CaseFile>>> {
     let mut out = Vec::new();
     for f in cases::case_paths(dir)? {
         let file = CaseFile::read(&f)?;
-        let case = file
-            .build(&cases::Overrides::default())
-            .map_err(|e| e.in_case_file(&f))?;
+        let case = file.defaults().map_err(|e| e.in_case_file(&f))?;
         if !case.sweeps().is_empty() {
             out.push(Arc::new(file));
         }
@@ -93,7 +91,7 @@ fn select(files: Vec<Arc<CaseFile>>, names: &[String], dir: &Path) -> Result<Vec
     if names.is_empty() {
         return Ok(files);
     }
-    let kind = |f: &CaseFile| f.build(&Default::default()).map(|c| c.kind());
+    let kind = |f: &CaseFile| f.defaults().map(|c| c.kind());
     for n in names {
         if !files
             .iter()
@@ -137,7 +135,7 @@ fn copy_cases(files: &[Arc<CaseFile>], out: &Path) -> Result<Vec<CaseEntry>> {
                     .map_err(|e| Error::io(&to, e))
             })?;
             Ok(CaseEntry {
-                kind: f.build(&Default::default())?.kind().to_string(),
+                kind: f.defaults()?.kind().to_string(),
                 title: f.title.clone(),
                 file: Some(format!("cases/{name}")),
             })
@@ -186,7 +184,7 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
     let mut slides = Vec::new();
     let mut studies = Vec::new();
     for (f, per_case) in files.iter().zip(per_case) {
-        let case = f.build(&Default::default())?;
+        let case = f.defaults()?;
         if let Some(s) = case.slide() {
             slides.push((case.kind().to_string(), s));
             figures.extend(profile::section(&format!("friction {}", f.stem()), || {
@@ -234,7 +232,7 @@ fn case_figures(
     quick: bool,
     run: Option<RunResult>,
 ) -> Result<Vec<Figure>> {
-    let case = file.build(&Overrides::default())?;
+    let case = file.defaults()?;
     if case.impact().is_some() {
         impact::impact_figures(file, out, quick, run)
     } else {
@@ -246,7 +244,7 @@ fn case_figures(
 /// the `[[history]]` tables, or the first sweep's level 2, as the figures take them), of which
 /// two at a time are in memory.
 fn figures_estimate(file: &CaseFile, quick: bool) -> Result<Estimate> {
-    let case = file.build(&Overrides::default())?;
+    let case = file.defaults()?;
     let mut runs: Vec<Overrides> = Vec::new();
     let mut extra = Estimate::default();
     if case.impact().is_some() {

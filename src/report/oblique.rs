@@ -390,7 +390,7 @@ fn figures(points: &[Point], reference: &Mbf, out: &Path, setting: &str) -> Resu
 /// The oblique-impact study of `file`'s `[oblique]` table (none without one): its figures and
 /// the section's table and conclusions.
 pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, Vec<Block>)> {
-    let case = file.build(&Overrides::default())?;
+    let case = file.defaults()?;
     let Some(study) = case.oblique() else {
         return Ok((Vec::new(), Vec::new()));
     };

@@ -50,7 +50,7 @@ impl Curve {
 
 /// The roll study of `file` (none for a case without a rigid disc): figures and table.
 pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, Vec<Block>)> {
-    let case = file.build(&Default::default())?;
+    let case = file.defaults()?;
     let (Some(roll), Some(radius)) = (case.roll(), case.spin().map(|s| s.radius)) else {
         return Ok((Vec::new(), Vec::new()));
     };

@@ -184,7 +184,7 @@ pub fn jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
 }
 
 fn sweep_jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
-    let case = file.build(&cases::Overrides::default())?;
+    let case = file.defaults()?;
     if case.sweeps().is_empty() {
         return Err(Error::invalid(
             "sweep",
