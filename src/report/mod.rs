@@ -69,8 +69,16 @@ pub struct CaseEntry {
     pub file: Option<String>,
 }
 
+/// A case file's figures and blocks of the report's sections.
+type Part = (Vec<Figure>, Vec<doc::Block>);
+
 /// A section study of a case file: its figures and blocks.
-type Study = fn(&CaseFile, &Path, bool) -> Result<(Vec<Figure>, Vec<doc::Block>)>;
+type Study = fn(&CaseFile, &Path, bool) -> Result<Part>;
+
+/// The friction figures of a case file, as a [`Study`].
+fn friction_study(file: &CaseFile, out: &Path, quick: bool) -> Result<Part> {
+    Ok((friction::figures(file, out, quick)?, Vec::new()))
+}
 
 /// Case files with `[[sweep]]` tables in `dir`, sorted by name, each read and parsed once.
 pub fn case_files(dir: &Path) -> Result<Vec<Arc<CaseFile>>> {
@@ -153,22 +161,41 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
     for f in &files {
         all.extend(jobs::jobs(f, opts.quick)?);
     }
-    // The figures' own runs are scheduled with the sweeps' (they need no record).
-    let extras = files
-        .iter()
-        .map(|f| {
-            Ok(Extra {
-                estimate: figures_estimate(f, opts.quick)?,
-                job: impact::sweep_run(f, opts.quick, &all)?,
-                work: Box::new(move |run| {
-                    profile::section(&format!("figures {}", f.stem()), || {
-                        case_figures(f, out, opts.quick, run)
+    // The figures' and the studies' own runs are scheduled with the sweeps' (they need no
+    // record), each case file's in the order of the report: friction, oblique, roll, figures.
+    let mut extras: Vec<Extra<'_, Result<Part>>> = Vec::new();
+    for f in &files {
+        let case = f.defaults()?;
+        let studies: [(&str, Study, Estimate); 3] = [
+            ("friction", friction_study, Estimate::default()),
+            ("oblique", oblique::study, oblique::estimate(f, opts.quick)?),
+            ("roll", roll::study, Estimate::default()),
+        ];
+        for (name, study, estimate) in studies {
+            if name == "friction" && case.slide().is_none() {
+                continue;
+            }
+            extras.push(Extra {
+                estimate,
+                job: None,
+                work: Box::new(move |_| {
+                    profile::section(&format!("{name} {}", f.stem()), || {
+                        study(f, out, opts.quick)
                     })
                 }),
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let (mut records, per_case) = profile::section("sweeps and figures", || {
+            });
+        }
+        extras.push(Extra {
+            estimate: figures_estimate(f, opts.quick)?,
+            job: impact::sweep_run(f, opts.quick, &all)?,
+            work: Box::new(move |run| {
+                profile::section(&format!("figures {}", f.stem()), || {
+                    Ok((case_figures(f, out, opts.quick, run)?, Vec::new()))
+                })
+            }),
+        });
+    }
+    let (mut records, parts) = profile::section("sweeps and figures", || {
         run_study_with(
             &all,
             (out, "journal.csv"),
@@ -181,24 +208,18 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
     });
     journal::rewrite(out, "journal.csv", &all, &records)?;
     let mut figures = Vec::new();
-    let mut slides = Vec::new();
     let mut studies = Vec::new();
-    for (f, per_case) in files.iter().zip(per_case) {
+    for part in parts {
+        let (f, blocks) = part?;
+        figures.extend(f);
+        studies.extend(blocks);
+    }
+    let mut slides = Vec::new();
+    for f in &files {
         let case = f.defaults()?;
         if let Some(s) = case.slide() {
             slides.push((case.kind().to_string(), s));
-            figures.extend(profile::section(&format!("friction {}", f.stem()), || {
-                friction::figures(f, out, opts.quick)
-            })?);
         }
-        for (name, study) in [("oblique", oblique::study as Study), ("roll", roll::study)] {
-            let (f, blocks) = profile::section(&format!("{name} {}", f.stem()), || {
-                study(f, out, opts.quick)
-            })?;
-            figures.extend(f);
-            studies.extend(blocks);
-        }
-        figures.extend(per_case?);
     }
     let peers_dir = cases_dir
         .parent()

@@ -9,7 +9,7 @@
 
 use super::doc::{Block, Cell, Figure, Rich};
 use super::friction::{par_runs, SECTION};
-use crate::cases::{CaseFile, Overrides};
+use crate::cases::{sweep::Refinement, CaseFile, Overrides};
 use crate::error::Result;
 use crate::exact::mbf::{Mbf, Rebound, Resolution, REPORT_RESOLUTION};
 use crate::exact::oblique::{
@@ -17,6 +17,7 @@ use crate::exact::oblique::{
 };
 use crate::output::plot::{xy_plot, Dash, Marker, Series, Style, PALETTE};
 use crate::study::run::run;
+use crate::study::schedule::Estimate;
 use std::path::Path;
 
 /// `|J_t| / (μ J_n)` at least this: the contact slid throughout (Coulomb's equality, to the
@@ -387,6 +388,32 @@ fn figures(points: &[Point], reference: &Mbf, out: &Path, setting: &str) -> Resu
     Ok(figs)
 }
 
+/// The runs of the study at `level` (each with its incidence besides).
+fn level_overrides(level: Refinement) -> Overrides {
+    Overrides {
+        elements: level.elements,
+        dt: Some(level.dt),
+        ..Default::default()
+    }
+}
+
+/// The estimated cost of [`study`], for the scheduler: one run per angle, two at a time.
+pub fn estimate(file: &CaseFile, quick: bool) -> Result<Estimate> {
+    let case = file.defaults()?;
+    let Some(study) = case.oblique() else {
+        return Ok(Estimate::default());
+    };
+    let (angles, level) = study.spec.study(quick);
+    let o = level_overrides(level);
+    let mut spec = case.run().clone();
+    o.apply(&mut spec);
+    let one = crate::study::jobs::estimate(file.size(&o), spec.steps(), &spec.space);
+    Ok(Estimate {
+        seconds: angles.len() as f64 * one.seconds,
+        bytes: 2.0 * one.bytes,
+    })
+}
+
 /// The oblique-impact study of `file`'s `[oblique]` table (none without one): its figures and
 /// the section's table and conclusions.
 pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, Vec<Block>)> {
@@ -395,11 +422,7 @@ pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, V
         return Ok((Vec::new(), Vec::new()));
     };
     let (angles, level) = study.spec.study(quick);
-    let o = Overrides {
-        elements: level.elements,
-        dt: Some(level.dt),
-        ..Default::default()
-    };
+    let o = level_overrides(level);
     let mu = study.mu;
     let reference = Mbf::sphere(1.0, 1.0, 1.0, study.poisson, mu)?;
     let points = par_runs(angles, |&theta| point(file, &o, theta, &reference))?;
