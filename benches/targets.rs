@@ -16,6 +16,7 @@
 //! its cost per dof·step over the default one's (target at 10⁶ dofs: ≤ 1.25).
 
 use dyncontact::cases::{self, Overrides};
+use dyncontact::study::profile::cpu_seconds;
 use dyncontact::study::run;
 use std::path::Path;
 use std::time::Instant;
@@ -144,24 +145,6 @@ fn end_to_end(t: &Target, out: &Path) -> (f64, f64) {
     run::write_run(out, &result).expect("outputs");
     let s = &result.summary;
     (start.elapsed().as_secs_f64(), (s.dofs * s.steps) as f64)
-}
-
-/// CPU time (user + system) of this process so far, seconds (`/proc/self/stat`, at the usual
-/// 100 ticks per second; NaN where it cannot be read): beside the wall time on a shared machine.
-fn cpu_seconds() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    // The fields after the command name (in parentheses): utime and stime are the 12th and 13th.
-    let rest = stat.rsplit(')').next().unwrap_or("");
-    let ticks: Vec<f64> = rest
-        .split_whitespace()
-        .skip(11)
-        .take(2)
-        .filter_map(|v| v.parse().ok())
-        .collect();
-    match ticks[..] {
-        [u, s] => (u + s) / 100.0,
-        _ => f64::NAN,
-    }
 }
 
 fn main() {

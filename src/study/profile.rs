@@ -31,6 +31,12 @@ pub fn start(path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// CPU time (user + system) of this process so far, seconds (NaN where `/proc/self/stat`
+/// cannot be read): beside the wall time on a shared machine.
+pub fn cpu_seconds() -> f64 {
+    cpu("self")
+}
+
 /// User + system seconds of `/proc/<which>/stat` (`self` or `thread-self`).
 fn cpu(which: &str) -> f64 {
     let Ok(stat) = std::fs::read_to_string(format!("/proc/{which}/stat")) else {
@@ -45,7 +51,10 @@ fn cpu(which: &str) -> f64 {
         .take(2)
         .filter_map(|t| t.parse().ok())
         .collect();
-    ticks.iter().sum::<f64>() / TICKS
+    match ticks[..] {
+        [u, s] => (u + s) / TICKS,
+        _ => f64::NAN,
+    }
 }
 
 /// Resident memory of the process now, MB (`VmRSS`).
@@ -72,7 +81,7 @@ impl Timer {
         PROFILE.get()?;
         Some(Self {
             start: Instant::now(),
-            cpu: cpu("self"),
+            cpu: cpu_seconds(),
             thread_cpu: cpu("thread-self"),
         })
     }
@@ -90,7 +99,7 @@ impl Timer {
             at(self.start),
             at(now),
             now.duration_since(self.start).as_secs_f64(),
-            cpu("self") - self.cpu,
+            cpu_seconds() - self.cpu,
             cpu("thread-self") - self.thread_cpu,
             rss_mb()
         );
