@@ -28,7 +28,7 @@ pub mod style;
 pub mod two_bodies;
 pub mod verdict;
 
-use crate::cases::{self, CaseFile, Overrides};
+use crate::cases::{self, Case, CaseFile, Overrides, Size};
 use crate::error::{Error, Result};
 use crate::study::jobs::{self, RunRecord};
 use crate::study::journal::{self, run_study_with, Extra};
@@ -271,7 +271,7 @@ fn figures_estimate(file: &CaseFile, quick: bool) -> Result<Estimate> {
     if case.impact().is_some() {
         runs.push(impact::impact_overrides(file, quick)?);
         if case.impact().is_some_and(|i| i.hertz.dim == 3) {
-            extra = crate::study::finite_body::estimate(file.size(&runs[0]));
+            extra = finite_body_estimate(case.as_ref(), file.size(&runs[0]));
         }
     } else if !case.histories().is_empty() {
         for h in case.histories() {
@@ -311,6 +311,28 @@ fn figures_estimate(file: &CaseFile, quick: bool) -> Result<Estimate> {
         seconds: each.iter().map(|e| e.seconds).sum(),
         bytes: each.iter().take(2).map(|e| e.bytes).sum(),
     })
+}
+
+/// The estimated cost of the finite-body laws of a case of `size`: one law per distinct body
+/// (twins are measured once, [`crate::study::finite_body::in_series`]), one after another, each
+/// on its body's share of the dofs (a single body is the whole case).
+fn finite_body_estimate(case: &dyn Case, size: Size) -> Estimate {
+    let bodies = case.bodies();
+    let listed = bodies.len().max(1) as f64;
+    let distinct = bodies
+        .iter()
+        .enumerate()
+        .filter(|&(i, &b)| !bodies[..i].iter().any(|&q| std::ptr::addr_eq(b, q)))
+        .count()
+        .max(1) as f64;
+    let one = crate::study::finite_body::estimate(Size {
+        dofs: size.dofs / listed,
+        ..size
+    });
+    Estimate {
+        seconds: one.seconds * distinct,
+        bytes: one.bytes,
+    }
 }
 
 /// Joins record files (from `sweep --shard`) into a report in `out` (no time histories).
