@@ -38,13 +38,22 @@ struct Curve {
 }
 
 impl Curve {
-    /// The fitted (acceleration, slip acceleration) over `t ≥ FIT_FROM · T`.
-    fn fitted(&self) -> (f64, f64) {
+    /// The fitted (acceleration, slip acceleration, small-displacement disc's acceleration of
+    /// radius `radius` on the same samples) over `t ≥ FIT_FROM · T`.
+    fn fitted(&self, radius: f64) -> (f64, f64, f64) {
         let from = FIT_FROM * self.velocity.last().map_or(0.0, |p| p.0);
         let late = |c: &[(f64, f64)]| -> Vec<(f64, f64)> {
             c.iter().copied().filter(|p| p.0 >= from).collect()
         };
-        (slope(&late(&self.velocity)), slope(&late(&self.slip)))
+        let small: Vec<(f64, f64)> = late(&self.velocity)
+            .iter()
+            .map(|p| (p.0, self.exact.small_displacement(radius, p.0).1))
+            .collect();
+        (
+            slope(&late(&self.velocity)),
+            slope(&late(&self.slip)),
+            slope(&small),
+        )
     }
 }
 
@@ -87,6 +96,7 @@ pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, V
         "acceleration (fit)",
         "rigid disc",
         "the other law",
+        "small-displacement disc (rolling)",
         "slip acceleration (fit)",
         "rigid disc",
         "slip v − Rω at T",
@@ -102,7 +112,7 @@ pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, V
     let rows = curves
         .iter()
         .map(|c| {
-            let (a, s) = c.fitted();
+            let (a, s, small) = c.fitted(radius);
             let e = c.exact;
             let other = if e.rolls() {
                 e.gravity * (e.slope.sin() - e.mu * e.slope.cos())
@@ -115,6 +125,7 @@ pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, V
                 format!("{a:.4}"),
                 format!("{:.4}", e.acceleration()),
                 format!("{other:.4}"),
+                format!("{small:.4}"),
                 format!("{s:.4}"),
                 format!("{:.4}", e.slip_acceleration()),
                 format!("{:.2e}", c.slip.last().map_or(f64::NAN, |p| p.1)),
@@ -130,7 +141,12 @@ pub fn study(file: &CaseFile, out: &Path, quick: bool) -> Result<(Vec<Figure>, V
              μ), the accelerations fitted (least squares) to the centre's velocity and to the \
              contact point's slip velocity `v − Rω` over `t ≥ {FIT_FROM} T` (after the release's \
              bounce), against the rigid disc: `⅔ g sin α` with no slip when μ ≥ tan α/3, \
-             `g (sin α − μ cos α)` with the slip growing at `g (sin α − 3μ cos α)` otherwise.",
+             `g (sin α − μ cos α)` with the slip growing at `g (sin α − 3μ cos α)` otherwise. The \
+             finite element disc is linearly elastic: rolling, it converges under refinement to \
+             the small-displacement disc (`exact::roll`; the linearised rotation stretches it, \
+             so it rises by `R θ²/2` as it turns, `a = ⅔ g (sin α − θ cos α)`), fitted on the \
+             same samples; a coarse mesh pivoting about its pole node follows the rigid disc \
+             while `θ < h/2R`.",
             roll.slope
         ))),
         Block::Table(header, rows),
