@@ -26,7 +26,7 @@ pub use single::SingleFactor;
 pub use sparse::{
     diagonal, is_narrow_band, lin_comb, rows, to_dense, triplets, SpMat, TripletBuilder,
 };
-pub use vectors::{axpy, combine, dot, dot_unordered, masked_dot, scale_add, PASS_CHUNK};
+pub use vectors::{axpy, combine, dot, dot_unordered, masked_dot, row_dot, scale_add, PASS_CHUNK};
 
 /// Test matrices shared by the unit tests of this module.
 #[cfg(test)]

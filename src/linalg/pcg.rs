@@ -275,7 +275,7 @@ fn add_rank_one(
     let kept = |j: usize| free.map_or(true, |f| f[j]);
     let mut xy = 0.0;
     for (row, kappa) in terms {
-        let s: f64 = row.iter().map(|&(j, v)| v * x[j]).sum();
+        let s = super::row_dot(row, x);
         let mut s_kept = 0.0;
         for &(j, v) in row.iter().filter(|e| kept(e.0)) {
             y[j] += kappa * s * v;

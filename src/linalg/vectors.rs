@@ -15,6 +15,11 @@ pub fn dot_unordered(x: &[f64], y: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
+/// `Σ_j v_j u_j` over a sparse row `(j, v_j)`.
+pub fn row_dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
+    row.iter().map(|&(j, v)| v * u[j]).sum()
+}
+
 /// Euclidean inner product.
 pub fn dot(x: &[f64], y: &[f64]) -> f64 {
     x.iter().zip(y).map(|(a, b)| a * b).sum()

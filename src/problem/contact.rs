@@ -133,7 +133,7 @@ pub struct ContactEnergy {
 impl ContactEnergy {
     /// Its value at U.
     pub fn eval(&self, u: &[f64]) -> f64 {
-        let dot = |row: &[(usize, f64)]| row.iter().map(|&(j, v)| v * u[j]).sum::<f64>();
+        let dot = |row: &[(usize, f64)]| crate::linalg::row_dot(row, u);
         let p = (dot(&self.r) - self.g0).max(0.0);
         self.a * self.s.iter().map(|s| dot(s).powi(2)).sum::<f64>() + self.b * p * p
     }

@@ -583,8 +583,7 @@ fn probe_row(
         v_contact: s.v[p.w_dof],
         sigma_contact: problem.contact_stress(s.lambda, p.contact),
         energy: probe.energy.energy(s.energy_u, s.v) + s.extra_energy,
-        gap: problem.contact.g0[p.contact]
-            - probe.b_row.iter().map(|&(j, v)| v * s.u[j]).sum::<f64>(),
+        gap: problem.contact.g0[p.contact] - crate::linalg::row_dot(&probe.b_row, s.u),
         force_contact: s.lambda.iter().sum(),
         approach: probe
             .centre

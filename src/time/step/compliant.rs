@@ -142,7 +142,7 @@ impl CompliantStep {
 
     /// `R_i u − o_i` (> 0: point i penetrates).
     fn penetration(&self, i: usize, offset: &[f64], u: &[f64]) -> f64 {
-        self.rows[i].iter().map(|&(j, v)| v * u[j]).sum::<f64>() - offset[i]
+        linalg::row_dot(&self.rows[i], u) - offset[i]
     }
 
     /// The active set under `u`: a point enters when it penetrates by more than τ, leaves when

@@ -16,7 +16,7 @@
 
 use crate::contact::{SolveInfo, Solver};
 use crate::error::{Error, Result};
-use crate::linalg;
+use crate::linalg::{self, row_dot};
 use crate::problem::{Problem, StepOperator};
 use nalgebra::DMatrix;
 
@@ -25,11 +25,6 @@ const BLOCK: usize = 64;
 
 /// Above this many entries `Z = A⁻¹ B_Nᵀ` is not stored; a second solve is done instead.
 pub const STORE_Z_LIMIT: usize = 30_000_000;
-
-/// `Σ v u_j` over a sparse row of `(j, v)`.
-pub(super) fn row_dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
-    row.iter().map(|&(j, v)| v * u[j]).sum()
-}
 
 /// Constant step operator, factored once, with its contact coupling formed column by column
 /// for the points that enter a step's working set (see [`DirectStep::solve_with`]).

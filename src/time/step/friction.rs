@@ -19,8 +19,7 @@
 //! `W_f += −r_T · Q_T (U_{n+1} − Uₙ) = −r_T · (Δs − θ γ Δσ_T)`, which closes `E + W_f` as the
 //! nodal work does; its sign is measured, not guaranteed (`tests/friction.rs`).
 
-use super::direct::row_dot as dot;
-use crate::linalg;
+use crate::linalg::{self, row_dot as dot};
 use crate::problem::Problem;
 
 /// What the position-level schemes pose Coulomb's law on ([`crate::time::Scheme::friction`]).

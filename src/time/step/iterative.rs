@@ -42,7 +42,7 @@
 
 use crate::contact::SolveInfo;
 use crate::error::{Error, Result, SolverError};
-use crate::linalg::{self, Pcg, SpMat};
+use crate::linalg::{self, row_dot, Pcg, SpMat};
 use crate::problem::Problem;
 
 /// Relative residual at which CG stops. 1e-8 was measured to let the energy drift of block3d
@@ -413,11 +413,6 @@ fn column(a: &SpMat, d: usize) -> Vec<(usize, f64)> {
     let a = a.as_ref();
     let rows = a.row_idx_of_col_raw(d).iter().copied();
     rows.zip(a.val_of_col(d).iter().copied()).collect()
-}
-
-/// `Σ_j v_j u_j` over a sparse row `(j, v_j)`.
-fn row_dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
-    row.iter().map(|&(j, v)| v * u[j]).sum()
 }
 
 /// Each row i of `B_N` split into its own dof and coefficient `(d_i, b_i)` (the entry of largest
