@@ -4,11 +4,24 @@
 
 use dyncontact::cases::{load, Case, Overrides};
 use dyncontact::output::vtu::read_array;
-use dyncontact::study::run::{run_with_output, FieldOutput};
+use dyncontact::study::run::{run_with_output, FieldOutput, RunResult};
 use std::path::Path;
 
-fn case(file: &str, o: Overrides) -> Box<dyn Case> {
-    load(Path::new(file), &o).unwrap()
+/// Runs the case file `file` with `o`, writing its fields every `every` steps into a new
+/// temporary directory (kept alive by the returned guard).
+fn run_fields(
+    file: &str,
+    o: Overrides,
+    every: usize,
+) -> (tempfile::TempDir, Box<dyn Case>, RunResult) {
+    let dir = tempfile::tempdir().unwrap();
+    let c = load(Path::new(file), &o).unwrap();
+    let out = FieldOutput {
+        dir: dir.path().to_path_buf(),
+        every,
+    };
+    let r = run_with_output(c.as_ref(), false, Some(&out)).unwrap();
+    (dir, c, r)
 }
 
 /// The disc of `hertz2d` (coarse mesh) through its first contact, a file every 25 steps: in each
@@ -18,19 +31,13 @@ fn case(file: &str, o: Overrides) -> Box<dyn Case> {
 /// with its time.
 #[test]
 fn fields_read_back_agree_with_the_time_series() {
-    let dir = tempfile::tempdir().unwrap();
     let o = Overrides {
         elements: Some(16),
         t_end: Some(4.0),
         ..Default::default()
     };
-    let c = case("cases/hertz2d.toml", o);
     let every = 25;
-    let out = FieldOutput {
-        dir: dir.path().to_path_buf(),
-        every,
-    };
-    let r = run_with_output(c.as_ref(), false, Some(&out)).unwrap();
+    let (dir, c, r) = run_fields("cases/hertz2d.toml", o, every);
     let fem = c.discretisation().unwrap();
     let space = dyncontact::space::by_name(&c.run().space).unwrap();
     let probe = c.problem(space.as_ref()).unwrap().probe;
@@ -80,19 +87,13 @@ fn fields_read_back_agree_with_the_time_series() {
 /// at `v = −g t` (Newmark ½, ½ is exact for a constant acceleration).
 #[test]
 fn singular_dynamic_velocity_is_interpolated_at_every_node() {
-    let dir = tempfile::tempdir().unwrap();
     let o = Overrides {
         elements: Some(2),
         space: Some("singular_dynamic".into()),
         t_end: Some(0.1),
         ..Default::default()
     };
-    let c = case("cases/disc2d.toml", o);
-    let out = FieldOutput {
-        dir: dir.path().to_path_buf(),
-        every: 5,
-    };
-    let r = run_with_output(c.as_ref(), false, Some(&out)).unwrap();
+    let (dir, c, r) = run_fields("cases/disc2d.toml", o, 5);
     let last = r.rows.len() - 1;
     assert_eq!(last % 5, 0);
     let v = read_array(
@@ -120,19 +121,13 @@ fn singular_dynamic_velocity_is_interpolated_at_every_node() {
 /// and the master's at +0.01; von Mises is zero at rest and positive under load.
 #[test]
 fn both_bodies_read_back_in_one_grid() {
-    let dir = tempfile::tempdir().unwrap();
     let o = Overrides {
         elements: Some(12),
         t_end: Some(4.0),
         ..Default::default()
     };
-    let c = case("cases/two_discs.toml", o);
     let every = 25;
-    let out = FieldOutput {
-        dir: dir.path().to_path_buf(),
-        every,
-    };
-    let r = run_with_output(c.as_ref(), false, Some(&out)).unwrap();
+    let (dir, c, r) = run_fields("cases/two_discs.toml", o, every);
     let parts = &c.multi_body().unwrap().parts;
     let (slave, master) = (&parts[0], &parts[1]);
     let (n1, n2) = (slave.mesh.nodes.len(), master.mesh.nodes.len());
@@ -184,7 +179,6 @@ fn both_bodies_read_back_in_one_grid() {
 /// along y on the slave's and the master's nodes, before contact.
 #[test]
 fn both_bodies_velocity_from_their_own_h_h() {
-    let dir = tempfile::tempdir().unwrap();
     let o = Overrides {
         elements: Some(4),
         degree: Some(2),
@@ -192,12 +186,7 @@ fn both_bodies_velocity_from_their_own_h_h() {
         t_end: Some(0.04),
         ..Default::default()
     };
-    let c = case("cases/two_discs.toml", o);
-    let out = FieldOutput {
-        dir: dir.path().to_path_buf(),
-        every: 1,
-    };
-    run_with_output(c.as_ref(), false, Some(&out)).unwrap();
+    let (dir, c, _) = run_fields("cases/two_discs.toml", o, 1);
     let n1 = c.multi_body().unwrap().parts[0].mesh.nodes.len();
     let v = read_array(&dir.path().join("two_discs_000000.vtu"), "velocity").unwrap();
     for (i, x) in v.chunks(3).enumerate() {
