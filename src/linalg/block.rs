@@ -24,7 +24,7 @@ pub struct BlockSym<T = f64> {
     upper: bool,
     ptr: Vec<usize>,
     idx: Vec<u32>,
-    /// Block (I, J), I ≤ J, row-major.
+    /// Block (I, J) (I ≤ J for 3 × 3 blocks, stored column-major; 2 × 2 row-major).
     val: Vec<T>,
     /// For `f32` values, `A − val` rounded to `f32` (the exact value to 2⁻⁴⁸ relative).
     rest: Vec<f32>,
@@ -107,10 +107,10 @@ impl BlockSym {
                     continue;
                 }
                 idx.push((block[0] / b) as u32);
-                for r in 0..b {
-                    for c in 0..b {
-                        val.push(v[cp[b * jb + c] + b * k + r]);
-                    }
+                // 2 × 2 blocks row-major, 3 × 3 column-major ([`BlockSym::upper_part_any`]).
+                for e in 0..b * b {
+                    let (r, c) = if upper { (e % b, e / b) } else { (e / b, e % b) };
+                    val.push(v[cp[b * jb + c] + b * k + r]);
                 }
             }
             ptr.push(idx.len());
@@ -268,29 +268,57 @@ impl<T: BlockValue> BlockSym<T> {
         parts[0][i] + parts[1][i]
     }
 
-    /// Part `p` of the product by 3 × 3 upper blocks, accumulated in `z`.
-    #[inline(always)]
+    /// Part `p` of the product by 3 × 3 upper blocks, accumulated in `z`: compiled for AVX2 where
+    /// the processor has it (the same operations in the same order, so the same result).
     fn upper_part(&self, p: usize, x: &[f64], z: &mut [f64], value: &impl Fn(usize) -> f64) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor supports AVX2, checked on the line above.
+            return unsafe { self.upper_part_avx2(p, x, z, value) };
+        }
+        self.upper_part_any(p, x, z, value);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn upper_part_avx2(&self, p: usize, x: &[f64], z: &mut [f64], value: &impl Fn(usize) -> f64) {
+        self.upper_part_any(p, x, z, value);
+    }
+
+    /// [`BlockSym::upper_part`] for any instruction set. Each stored block A_IJ (column-major)
+    /// is read as three columns `a_c` padded to 4 lanes with a zero; `A_IJᵀ x_I` accumulates
+    /// `a_c ⊙ x_I` lane by lane in three 4-lane sums, added across lanes once per block column
+    /// J, and `A_IJ x_J = Σ_c a_c x_Jc` is added to `z_I` (three lanes: a wider store would
+    /// overlap the next node's and stall the loads that follow it).
+    #[inline(always)]
+    fn upper_part_any(&self, p: usize, x: &[f64], z: &mut [f64], value: &impl Fn(usize) -> f64) {
         const B: usize = 3;
+        let (xs, zs) = (x.as_chunks::<B>().0, z.as_chunks_mut::<B>().0);
         for jb in self.cuts[p]..self.cuts[p + 1] {
-            let j = jb * B;
-            let xj: [f64; B] = std::array::from_fn(|c| x[j + c]);
-            let mut acc = [0.0; B];
+            let xj = xs[jb];
+            let mut acc = [[0.0; 4]; B];
             for k in self.ptr[jb]..self.ptr[jb + 1] {
-                let i = self.idx[k] as usize * B;
-                let blk: [f64; B * B] = std::array::from_fn(|e| value(k * B * B + e));
-                let xi = &x[i..i + B];
-                for (c, a) in acc.iter_mut().enumerate() {
-                    *a += (0..B).map(|r| blk[r * B + c] * xi[r]).sum::<f64>();
+                let ib = self.idx[k] as usize;
+                let col = |c: usize| {
+                    let o = k * B * B + c * B;
+                    [value(o), value(o + 1), value(o + 2), 0.0]
+                };
+                let cols = [col(0), col(1), col(2)];
+                let xi = xs[ib];
+                let xi = [xi[0], xi[1], xi[2], 0.0];
+                for (a, col) in acc.iter_mut().zip(&cols) {
+                    for l in 0..4 {
+                        a[l] += col[l] * xi[l];
+                    }
                 }
-                if i != j {
-                    for r in 0..B {
-                        z[i + r] += (0..B).map(|c| blk[r * B + c] * xj[c]).sum::<f64>();
+                if ib != jb {
+                    for (r, zr) in zs[ib].iter_mut().enumerate() {
+                        *zr += (cols[0][r] * xj[0] + cols[1][r] * xj[1]) + cols[2][r] * xj[2];
                     }
                 }
             }
-            for c in 0..B {
-                z[j + c] += acc[c];
+            for (zc, a) in zs[jb].iter_mut().zip(&acc) {
+                *zc += (a[0] + a[1]) + (a[2] + a[3]);
             }
         }
     }
