@@ -109,7 +109,11 @@ impl BlockSym {
                 idx.push((block[0] / b) as u32);
                 // 2 × 2 blocks row-major, 3 × 3 column-major ([`BlockSym::upper_part_any`]).
                 for e in 0..b * b {
-                    let (r, c) = if upper { (e % b, e / b) } else { (e / b, e % b) };
+                    let (r, c) = if upper {
+                        (e % b, e / b)
+                    } else {
+                        (e / b, e % b)
+                    };
                     val.push(v[cp[b * jb + c] + b * k + r]);
                 }
             }
