@@ -168,7 +168,7 @@ fn main() {
             .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a });
         per_dof_step.insert(t.name, best / work);
         let gb = dyncontact::util::peak_memory().unwrap_or(f64::NAN) / 1e9;
-        let fits = t.memory_gb.map_or(true, |m| gb <= m);
+        let fits = t.memory_gb.is_none_or(|m| gb <= m);
         let verdict = if best <= t.limit && fits {
             "met"
         } else {

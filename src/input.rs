@@ -111,7 +111,7 @@ impl Input {
 
 /// `n MiB` for whole mebibytes, else `n bytes`.
 fn human(bytes: u64) -> String {
-    if bytes % MIB == 0 {
+    if bytes.is_multiple_of(MIB) {
         format!("{} MiB", bytes / MIB)
     } else {
         format!("{bytes} bytes")

@@ -48,7 +48,7 @@ fn agreements() -> &'static [Agreement] {
 fn select(case: &str, brick: Option<&str>, count: usize) -> Vec<&'static Agreement> {
     let runs: Vec<_> = agreements()
         .iter()
-        .filter(|a| a.run.case.starts_with(case) && brick.map_or(true, |b| a.run.brick == b))
+        .filter(|a| a.run.case.starts_with(case) && brick.is_none_or(|b| a.run.brick == b))
         .collect();
     assert_eq!(runs.len(), count, "{case} {brick:?}");
     runs

@@ -211,13 +211,13 @@ mod tests {
             let d = [e % n, (e * 3 + 1) % n, (e * 5 + 2) % n];
             d.iter()
                 .enumerate()
-                .map(|(a, &i)| (a != 2 || e % 4 != 0).then_some(i))
+                .map(|(a, &i)| (a != 2 || !e.is_multiple_of(4)).then_some(i))
                 .collect()
         };
         let local = |e: usize| {
             DMatrix::from_fn(3, 3, |a, b| {
                 let v = 0.1 * (e * 7 + a * 3 + b) as f64 / 3.0;
-                if (a + b + e) % 5 == 0 {
+                if (a + b + e).is_multiple_of(5) {
                     0.0
                 } else {
                     v.sin()

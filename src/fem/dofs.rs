@@ -15,7 +15,7 @@ impl DofMap {
         let mut n = 0;
         let of = fixed
             .iter()
-            .flat_map(|&f| std::iter::repeat(f).take(d))
+            .flat_map(|&f| std::iter::repeat_n(f, d))
             .map(|f| {
                 (!f).then(|| {
                     n += 1;

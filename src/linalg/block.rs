@@ -84,7 +84,7 @@ impl BlockSym {
         let upper = b == 3;
         let (cp, ri, v) = csc(a);
         let n = a.ncols();
-        if n % b != 0 || a.nrows() != n || u32::try_from(n / b).is_err() {
+        if !n.is_multiple_of(b) || a.nrows() != n || u32::try_from(n / b).is_err() {
             return None;
         }
         let mut ptr = vec![0];
@@ -283,9 +283,17 @@ impl<T: BlockValue> BlockSym<T> {
         self.upper_part_any(p, x, z, value);
     }
 
+    /// # Safety
+    /// The processor must support AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn upper_part_avx2(&self, p: usize, x: &[f64], z: &mut [f64], value: &impl Fn(usize) -> f64) {
+    unsafe fn upper_part_avx2(
+        &self,
+        p: usize,
+        x: &[f64],
+        z: &mut [f64],
+        value: &impl Fn(usize) -> f64,
+    ) {
         self.upper_part_any(p, x, z, value);
     }
 

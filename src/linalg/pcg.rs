@@ -272,7 +272,7 @@ fn add_rank_one(
     x: &[f64],
     free: Option<&[bool]>,
 ) -> f64 {
-    let kept = |j: usize| free.map_or(true, |f| f[j]);
+    let kept = |j: usize| free.is_none_or(|f| f[j]);
     let mut xy = 0.0;
     for (row, kappa) in terms {
         let s = super::row_dot(row, x);

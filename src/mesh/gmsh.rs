@@ -144,7 +144,7 @@ impl File {
             Some(name) => Some(entities(data, dim, self.group(name, dim)?)),
             None => None,
         };
-        let of_body = |tag: i32| body.as_ref().map_or(true, |e| e.contains(&tag));
+        let of_body = |tag: i32| body.as_ref().is_none_or(|e| e.contains(&tag));
         // Cells: the blocks of dimension `dim` (of the body's entities), one family.
         let mut element: Option<(RefElement, ElementType)> = None;
         let mut cells: Vec<Vec<usize>> = Vec::new();

@@ -187,7 +187,7 @@ impl<'a> VtuSeries<'a> {
 
     /// As [`VtuSeries::sample`] with each body's fields (in the order of the bodies).
     pub fn sample_bodies(&mut self, index: usize, s: &[Fields<'_>]) -> Result<()> {
-        if index % self.every != 0 {
+        if !index.is_multiple_of(self.every) {
             return Ok(());
         }
         if s.len() != self.parts.len() {
@@ -207,7 +207,7 @@ impl<'a> VtuSeries<'a> {
             v.extend(padded(&fem.nodal_velocity(f.v)?, d));
             p.extend(fem.contact_pressure(f.lambda));
             let von_mises = fem.von_mises(f.u);
-            body.extend(std::iter::repeat((b + 1) as f64).take(von_mises.len()));
+            body.extend(std::iter::repeat_n((b + 1) as f64, von_mises.len()));
             mises.extend(von_mises);
         }
         let point = vec![

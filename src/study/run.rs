@@ -450,7 +450,7 @@ impl Progress {
     }
 
     fn update(&mut self, step: usize) {
-        if !self.enabled || step % 32 != 0 {
+        if !self.enabled || !step.is_multiple_of(32) {
             return;
         }
         if self.bar.is_none() && self.start.elapsed() >= PROGRESS_AFTER {

@@ -184,7 +184,7 @@ pub fn symmetric_law(problem: &Problem) -> Result<()> {
     let same = c
         .force
         .as_ref()
-        .map_or(true, |f| linalg::triplets(f).eq(linalg::triplets(&c.b_n)));
+        .is_none_or(|f| linalg::triplets(f).eq(linalg::triplets(&c.b_n)));
     if same {
         Ok(())
     } else {
