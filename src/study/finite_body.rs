@@ -18,15 +18,22 @@
 //! `(M/Δt² + K) U_{n+1} = F + M (U_n + Δt V_n)/Δt² − B_Nᵀλ` contracts towards the equilibrium
 //! `K U = F − B_Nᵀλ` (independent of M) by about `(ω Δt)⁻² ≈ 10⁻³` per step, ω the contact
 //! frequency; it stops when the approach changes by less than [`TOLERANCE`] of itself.
+//!
+//! A law is measured once per process and static problem: a body that is the same problem as one
+//! measured before (the default hertz3d sphere and each sphere of two_spheres) reuses its law
+//! ([`finite_body`]).
 
 use super::schedule::Estimate;
 use crate::cases::{Case, Impact, Size};
 use crate::error::{Error, Result};
 use crate::exact::hertz::Hertz;
+use crate::linalg::SpMat;
 use crate::problem::Problem;
 use crate::time::backward_euler::BackwardEuler;
 use crate::time::step::ContactStep;
 use crate::time::{Integrator, LinearSolver, Solvers};
+use std::hash::{DefaultHasher, Hash, Hasher};
+use std::sync::{Arc, Mutex, PoisonError};
 
 /// The loads of [`finite_body`], as fractions of Hertz's peak force.
 pub const LOADS: [f64; 2] = [0.5, 1.0];
@@ -69,7 +76,9 @@ impl StaticPoint {
 }
 
 /// Measures the finite-body law of `case` (a sphere against Hertz: an error otherwise) at the
-/// [`LOADS`] and fits its coefficient; for two bodies ([`Case::bodies`]), [`in_series`].
+/// [`LOADS`] and fits its coefficient; for two bodies ([`Case::bodies`]), [`in_series`]. A body
+/// whose static problem was measured before in this process reuses that law ([`measured`]):
+/// the solves are deterministic, so it is the law this body would measure.
 pub fn finite_body(case: &dyn Case) -> Result<FiniteBody> {
     let parts = case.bodies();
     if !parts.is_empty() {
@@ -85,7 +94,15 @@ pub fn finite_body(case: &dyn Case) -> Result<FiniteBody> {
     let (Some(f_max), Some(t_c)) = (half_space.peak_force(), half_space.duration()) else {
         return Err(Error::Unsupported("Hertz gives no peak force".into()));
     };
-    let mut statics = Statics::new(case, &impact, STEP_IN_DURATIONS * t_c)?;
+    let dt = STEP_IN_DURATIONS * t_c;
+    let problem = Statics::at_rest(case)?;
+    let slot = measured(fingerprint(&problem, &impact, dt))?;
+    // Held while measuring: a second request for the same body waits for this law.
+    let mut law = slot.lock().map_err(poisoned)?;
+    if let Some(law) = law.as_ref() {
+        return Ok(law.clone());
+    }
+    let mut statics = Statics::new(case, &impact, problem, dt)?;
     let points = LOADS
         .iter()
         .map(|&x| statics.point(x * f_max))
@@ -96,12 +113,70 @@ pub fn finite_body(case: &dyn Case) -> Result<FiniteBody> {
         .map(|p| (p.hertz - p.approach) * p.force)
         .sum::<f64>()
         / points.iter().map(|p| p.force * p.force).sum::<f64>();
-    Ok(FiniteBody {
+    let measured = FiniteBody {
         coefficient: compliance * half_space.e_star * half_space.radius,
         hertz: half_space.finite_body(impact.mass, compliance)?,
         half_space,
         points,
-    })
+    };
+    *law = Some(measured.clone());
+    Ok(measured)
+}
+
+/// A law of [`finite_body`], measured or being measured, under the fingerprint of its static
+/// problem.
+type Slot = Arc<Mutex<Option<FiniteBody>>>;
+
+/// The slot of the static problem of fingerprint `key` among those of this process (a new,
+/// empty one the first time).
+fn measured(key: u64) -> Result<Slot> {
+    static LAWS: Mutex<Vec<(u64, Slot)>> = Mutex::new(Vec::new());
+    let mut laws = LAWS.lock().map_err(poisoned)?;
+    if let Some((_, slot)) = laws.iter().find(|(k, _)| *k == key) {
+        return Ok(slot.clone());
+    }
+    let slot = Slot::default();
+    laws.push((key, slot.clone()));
+    Ok(slot)
+}
+
+fn poisoned<T>(_: PoisonError<T>) -> Error {
+    Error::Internal("a finite-body law panicked while it was measured".into())
+}
+
+/// A hash of everything the static solves of [`Statics`] read: K, M, the contact rows and gaps
+/// (and friction), U₀, the centre's weights, Hertz's reference and the step, bit for bit.
+fn fingerprint(problem: &Problem, impact: &Impact, dt: f64) -> u64 {
+    let mut h = DefaultHasher::new();
+    let bits = |h: &mut DefaultHasher, x: &[f64]| x.iter().for_each(|v| v.to_bits().hash(h));
+    let matrix = |h: &mut DefaultHasher, a: &SpMat| {
+        let a = a.as_ref();
+        (a.nrows(), a.ncols()).hash(h);
+        a.symbolic().col_ptr().hash(h);
+        a.symbolic().col_nnz().hash(h);
+        a.symbolic().row_idx().hash(h);
+        bits(h, a.val());
+    };
+    matrix(&mut h, &problem.k);
+    match problem.inertia.sparse() {
+        Some(m) => matrix(&mut h, m),
+        None => format!("{:?}", problem.inertia).hash(&mut h),
+    }
+    let contact = &problem.contact;
+    matrix(&mut h, &contact.b_n);
+    bits(&mut h, &contact.g0);
+    if let Some(f) = &contact.friction {
+        bits(&mut h, &[f.mu]);
+        matrix(&mut h, &f.b_t);
+    }
+    bits(&mut h, &problem.u0);
+    for &(j, w) in &impact.centre {
+        j.hash(&mut h);
+        bits(&mut h, &[w]);
+    }
+    format!("{:?}", impact.hertz).hash(&mut h);
+    bits(&mut h, &[impact.mass, dt]);
+    h.finish()
 }
 
 /// Two bodies in series: each body's law measured alone against the plane, the approaches of
@@ -160,12 +235,18 @@ pub struct Statics<'c> {
 }
 
 impl<'c> Statics<'c> {
-    /// The body of `case` at rest, and the step matrix of `dt` factored.
-    pub fn new(case: &'c dyn Case, impact: &'c Impact, dt: f64) -> Result<Self> {
+    /// The problem of `case`'s body at rest (standard mass, no load).
+    pub fn at_rest(case: &dyn Case) -> Result<Problem> {
         let space = crate::space::by_name(crate::space::standard::ENTRY.name)?;
         let mut problem = case.problem(space.as_ref())?;
         problem.v0.fill(0.0);
         problem.f.fill(0.0);
+        Ok(problem)
+    }
+
+    /// The static solves of `case`'s body at rest ([`Statics::at_rest`]), its step matrix of
+    /// `dt` factored.
+    pub fn new(case: &'c dyn Case, impact: &'c Impact, problem: Problem, dt: f64) -> Result<Self> {
         let system = BackwardEuler::system(&problem, dt, Self::solvers(&problem)?)?;
         Ok(Self {
             case,
