@@ -218,18 +218,26 @@ impl Bodies {
         let d = self.dim();
         let dot = |a: [f64; 3], b: [f64; 3]| (0..d).map(|k| a[k] * b[k]).sum::<f64>();
         let mut out = Vec::new();
+        let reach: Vec<Reach> = m
+            .contact_faces
+            .iter()
+            .map(|f| Reach::new(f, &m.mesh.nodes))
+            .collect();
         for (r, &(i, _)) in s.contact_vertices.iter().enumerate() {
             let xs = s.mesh.nodes[i];
             // (excess, |g₀| along the face's normal, point, shape functions, face)
             let mut candidates = Vec::new();
-            for face in &m.contact_faces {
-                let x: Vec<[f64; 3]> = face.vertices.iter().map(|&k| m.mesh.nodes[k]).collect();
-                let Some((excess, shape)) = project(&x, face.normal, xs)? else {
+            for (face, reach) in m.contact_faces.iter().zip(&reach) {
+                if !reach.may_project(face.normal, xs) {
+                    continue;
+                }
+                let x = &reach.x;
+                let Some((excess, shape)) = project(x, face.normal, xs)? else {
                     continue;
                 };
                 if excess <= MAX_EXCESS {
                     let xm: [f64; 3] =
-                        std::array::from_fn(|k| shape.iter().zip(&x).map(|(n, p)| n * p[k]).sum());
+                        std::array::from_fn(|k| shape.iter().zip(x).map(|(n, p)| n * p[k]).sum());
                     let g0 = dot(std::array::from_fn(|k| xs[k] - xm[k]), face.normal);
                     candidates.push((excess, g0.abs(), xm, shape, face));
                 }
@@ -582,6 +590,53 @@ fn in_wedge(offset: [f64; 3], n: [f64; 3], meeting: &[[f64; 3]], tol: f64) -> bo
     let tangential: [f64; 3] = std::array::from_fn(|k| offset[k] - gn * n[k]);
     let tan = (1.0 - cos * cos).sqrt() / cos;
     dot(tangential, tangential).sqrt() <= gn.abs() * tan + tol
+}
+
+/// Where a master face's projections can come from: [`project`] puts a point `p` at
+/// `x(s, t) = Σ N_k x_k` with `p − x(s, t)` along the face's normal n, and [`Bodies::pairings`]
+/// keeps it when (s, t) lies within [`MAX_EXCESS`] = e of the face, where `Σ |N_k| ≤ (1 + 2e)²`
+/// (a quadrilateral's corner (−e, −e) is the worst; a triangle's `1 + 4e` and a segment's
+/// `1 + 2e` are below), so `|x(s, t) − c| ≤ (1 + 2e)² max_k |x_k − c|` about the vertices' mean
+/// c. Hence p's distance to c across n is at most that plus the projection's tolerance: a point
+/// further away cannot pair with the face ([`Reach::may_project`]), and the test skips the
+/// projection of a slave vertex on every far face (the pairs are the same).
+struct Reach {
+    /// The face's vertices.
+    x: Vec<[f64; 3]>,
+    /// Their mean c.
+    centre: [f64; 3],
+    /// The bound on the distance across the normal, with a relative margin for round-off.
+    radius: f64,
+}
+
+impl Reach {
+    fn new(face: &crate::mesh::Face, nodes: &[[f64; 3]]) -> Self {
+        let x: Vec<[f64; 3]> = face.vertices.iter().map(|&k| nodes[k]).collect();
+        let len = x.len().max(1) as f64;
+        let centre: [f64; 3] = std::array::from_fn(|k| x.iter().map(|y| y[k]).sum::<f64>() / len);
+        let far = |a: [f64; 3]| {
+            x.iter()
+                .map(|y| (0..3).map(|k| (y[k] - a[k]).powi(2)).sum::<f64>().sqrt())
+                .fold(0.0, f64::max)
+        };
+        // [`project`]'s tolerance on the offset across the normal: 1e-9 of the face's size. A
+        // point (1D) takes every vertex, and [`project`] refuses larger faces: no bound.
+        let radius = match x.len() {
+            2..=4 => {
+                ((1.0 + 2.0 * MAX_EXCESS).powi(2) * far(centre) + 1e-9 * far(x[0])) * (1.0 + 1e-6)
+            }
+            _ => f64::INFINITY,
+        };
+        Self { x, centre, radius }
+    }
+
+    /// Whether `p` can project on the face within [`MAX_EXCESS`] along its normal `n`.
+    fn may_project(&self, n: [f64; 3], p: [f64; 3]) -> bool {
+        let v: [f64; 3] = std::array::from_fn(|k| p[k] - self.centre[k]);
+        let vn = (0..3).map(|k| v[k] * n[k]).sum::<f64>();
+        let across = (0..3).map(|k| (v[k] - vn * n[k]).powi(2)).sum::<f64>();
+        across.sqrt() <= self.radius
+    }
 }
 
 /// The projection of `p` along the face's unit normal `n` on the face with vertices `x`: how far
@@ -939,6 +994,52 @@ mod tests {
         assert!((xm[2] - 0.2 * 0.7 * 0.4).abs() < 1e-14, "{xm:?}");
         assert!(project(&quad, z, [1.2, 0.5, 0.0]).unwrap().unwrap().0 > 0.19);
         assert!(project(&[[0.0; 3]; 5], z, p).is_err());
+    }
+
+    /// [`Reach`] keeps every point that projects on a face within [`MAX_EXCESS`] (a segment, a
+    /// triangle, a warped quadrilateral; points on a grid around each, above and below) and
+    /// rejects the points far across the normal.
+    #[test]
+    fn reach_keeps_every_point_that_projects_on_the_face() {
+        let faces: [(Vec<[f64; 3]>, [f64; 3]); 3] = [
+            (vec![[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]], [0.0, 1.0, 0.0]),
+            (
+                vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+                [0.0, 0.0, 1.0],
+            ),
+            (
+                vec![[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.2], [0.0, 1.0, 0.0]],
+                [0.0, 0.0, 1.0],
+            ),
+        ];
+        for (x, normal) in faces {
+            let nodes = x.clone();
+            let face = crate::mesh::Face {
+                vertices: (0..x.len()).collect(),
+                measure: 1.0,
+                normal,
+                cell: 0,
+                local: vec![],
+            };
+            let reach = Reach::new(&face, &nodes);
+            let (mut paired, mut skipped) = (0, 0);
+            for i in -60..=60 {
+                for j in -60..=60 {
+                    for h in [-1.0, 0.05, 2.0] {
+                        let (a, b) = (i as f64 / 20.0, j as f64 / 20.0);
+                        let p = if x.len() == 2 { [a, h, b] } else { [a, b, h] };
+                        let near = project(&x, normal, p)
+                            .unwrap()
+                            .is_some_and(|(excess, _)| excess <= MAX_EXCESS);
+                        let kept = reach.may_project(normal, p);
+                        assert!(kept || !near, "{p:?} projects on {x:?} but is skipped");
+                        paired += usize::from(near);
+                        skipped += usize::from(!kept);
+                    }
+                }
+            }
+            assert!(paired > 0 && skipped > paired, "{paired} {skipped}");
+        }
     }
 
     /// A convex master (two segments meeting at a kink of 0.2 rad below the slave vertex at
