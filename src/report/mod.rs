@@ -263,7 +263,8 @@ fn case_figures(
 
 /// The estimated cost of [`case_figures`]: its runs (the impact run and the finite-body law,
 /// the `[[history]]` tables, or the first sweep's level 2, as the figures take them), of which
-/// two at a time are in memory.
+/// two at a time are in memory; the impact run and the law one after the other (the run's
+/// matrices are gone when the law is measured).
 fn figures_estimate(file: &CaseFile, quick: bool) -> Result<Estimate> {
     let case = file.defaults()?;
     let mut runs: Vec<Overrides> = Vec::new();
@@ -307,9 +308,10 @@ fn figures_estimate(file: &CaseFile, quick: bool) -> Result<Estimate> {
         .collect();
     each.push(extra);
     each.sort_by(|a, b| b.bytes.total_cmp(&a.bytes));
+    let together = if case.impact().is_some() { 1 } else { 2 };
     Ok(Estimate {
         seconds: each.iter().map(|e| e.seconds).sum(),
-        bytes: each.iter().take(2).map(|e| e.bytes).sum(),
+        bytes: each.iter().take(together).map(|e| e.bytes).sum(),
     })
 }
 
