@@ -57,7 +57,7 @@ pub(super) const MAX_ACTIVE_SET_UPDATES: usize = 50;
 /// (hertz3d n = 20, 60 steps: 2 602, 2 631, 2 689 and 2 783 CG iterations from 1e-5, 1e-6,
 /// 1e-7 and 1e-8, in 113, 77, 76 and 76 solves: at 1e-5 many early verdicts are spurious, from
 /// 1e-6 down they are not).
-const ACTIVE_SET_CHECK: f64 = 1e-7;
+pub(super) const ACTIVE_SET_CHECK: f64 = 1e-7;
 /// Relative thresholds τ of the active-set update (above CG's accuracy, so that round-off
 /// does not flip a grazing point).
 pub(super) const ACTIVE_SET_TOLERANCE: f64 = 1e-8;
