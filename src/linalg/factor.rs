@@ -11,6 +11,7 @@ use faer::sparse::linalg::cholesky::{
     SymmetricOrdering,
 };
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
+use faer::sparse::SparseColMatRef;
 use faer::{Conj, MatMut, Par, Side};
 
 /// Which factorisation a [`Factor`] holds.
@@ -122,12 +123,42 @@ pub(super) fn factor_err(name: &str, e: impl std::fmt::Debug) -> Error {
 const PARALLEL_FACTOR_DOFS: usize = 50_000;
 
 /// faer's parallelism for a matrix of order `n`.
-fn par_for(n: usize) -> Par {
+pub(super) fn par_for(n: usize) -> Par {
     if n >= PARALLEL_FACTOR_DOFS {
         Par::rayon(0)
     } else {
         Par::Seq
     }
+}
+
+/// The values of the Cholesky factor of `a` on its analysed pattern `symbolic` (`a` of the
+/// pattern it was analysed for); `name` in the error when `a` is not numerically SPD.
+pub(super) fn numeric_llt(
+    symbolic: &SymbolicCholesky<usize>,
+    a: SparseColMatRef<'_, usize, f64>,
+    par: Par,
+    name: &str,
+) -> Result<Vec<f64>> {
+    let mut values = vec![0.0; symbolic.len_val()];
+    let req = symbolic
+        .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+        .or(symbolic.solve_in_place_scratch::<f64>(1, par));
+    let mut buffer = MemBuffer::try_new(req).map_err(|e| factor_err(name, e))?;
+    symbolic
+        .factorize_numeric_llt(
+            &mut values,
+            a,
+            Side::Lower,
+            Default::default(),
+            par,
+            MemStack::new(&mut buffer),
+            Default::default(),
+        )
+        .map_err(|e| Error::Factorisation {
+            matrix: name.to_string(),
+            reason: format!("not symmetric positive definite ({e:?})"),
+        })?;
+    Ok(values)
 }
 
 impl Factor {
@@ -147,25 +178,9 @@ impl Factor {
         let symbolic =
             factorize_symbolic_cholesky(a.symbolic(), Side::Lower, ordering, Default::default())
                 .map_err(|e| factor_err(name, e))?;
-        let mut values = vec![0.0; symbolic.len_val()];
-        let req = symbolic
-            .factorize_numeric_llt_scratch::<f64>(par, Default::default())
-            .or(symbolic.solve_in_place_scratch::<f64>(1, par));
-        let mut buffer = MemBuffer::try_new(req).map_err(|e| factor_err(name, e))?;
-        symbolic
-            .factorize_numeric_llt(
-                &mut values,
-                a.as_ref(),
-                Side::Lower,
-                Default::default(),
-                par,
-                MemStack::new(&mut buffer),
-                Default::default(),
-            )
-            .map_err(|e| Error::Factorisation {
-                matrix: name.to_string(),
-                reason: format!("not symmetric positive definite ({e:?})"),
-            })?;
+        let values = numeric_llt(&symbolic, a.as_ref(), par, name)?;
+        let buffer = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, par))
+            .map_err(|e| factor_err(name, e))?;
         let simplicial = match symbolic.raw() {
             SymbolicCholeskyRaw::Simplicial(l) => {
                 let mut path = Simplicial {

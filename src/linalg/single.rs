@@ -1,10 +1,11 @@
 //! A Cholesky factor rounded to single precision, for preconditioners.
 
-use super::factor::{factor_err, Factor, Kind};
+use super::factor::{factor_err, numeric_llt, par_for, Factor, Kind};
 use super::sparse::SpMat;
 use crate::error::Result;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky};
+use faer::sparse::SparseColMatRef;
 use faer::{Conj, MatMut, Par};
 
 /// A Cholesky factor `L` rounded to single precision, `L̃ = fl₃₂(L)`: its solves apply
@@ -43,6 +44,14 @@ impl SingleFactor {
             n: factor.n,
             buffer,
         })
+    }
+
+    /// Factors `a` again on the pattern analysed by [`SingleFactor::cholesky`] (no new
+    /// ordering or symbolic analysis: `a` must have the analysed matrix's pattern).
+    pub fn refactor(&mut self, a: SparseColMatRef<'_, usize, f64>, name: &str) -> Result<()> {
+        let values = numeric_llt(&self.symbolic, a, par_for(self.n), name)?;
+        self.values = values.iter().map(|&v| v as f32).collect();
+        Ok(())
     }
 
     /// `x ← (L̃ L̃ᵀ)⁻¹ x` in single precision.
