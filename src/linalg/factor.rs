@@ -140,9 +140,7 @@ pub(super) fn numeric_llt(
     name: &str,
 ) -> Result<Vec<f64>> {
     let mut values = vec![0.0; symbolic.len_val()];
-    let req = symbolic
-        .factorize_numeric_llt_scratch::<f64>(par, Default::default())
-        .or(symbolic.solve_in_place_scratch::<f64>(1, par));
+    let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
     let mut buffer = MemBuffer::try_new(req).map_err(|e| factor_err(name, e))?;
     symbolic
         .factorize_numeric_llt(

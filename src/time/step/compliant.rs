@@ -131,7 +131,8 @@ impl CompliantStep {
             if next == self.active {
                 for (i, l) in lambda.iter_mut().enumerate() {
                     *l = if self.active[i] {
-                        (self.stiffness[i] / self.c * self.penetration(i, offset, u)).max(0.0)
+                        (self.stiffness[i] / self.c * penetration((&self.rows[i], offset[i]), u))
+                            .max(0.0)
                     } else {
                         0.0
                     };
@@ -145,11 +146,6 @@ impl CompliantStep {
             }
         }
         Err(unsettled("the active set of the cg step (Nitsche)", at))
-    }
-
-    /// `R_i u − o_i` (> 0: point i penetrates).
-    fn penetration(&self, i: usize, offset: &[f64], u: &[f64]) -> f64 {
-        linalg::row_dot(&self.rows[i], u) - offset[i]
     }
 
     /// The active set under `u`: a point enters when it penetrates by more than τ, leaves when
@@ -209,12 +205,17 @@ impl CompliantStep {
     }
 }
 
+/// `R_i u − o_i` of a point with gap row `R_i` and offset `o_i` (> 0: it penetrates).
+fn penetration((row, offset): (&[(usize, f64)], f64), u: &[f64]) -> f64 {
+    linalg::row_dot(row, u) - offset
+}
+
 /// Whether a point with gap row `R_i` and offset `o_i` is active under `u`: it enters when it
 /// penetrates (`R_i u − o_i`) by more than τ, leaves when its gap opens by more than τ; an
 /// excluded point (`o_i = +∞`) never enters.
-fn stays_active(active: bool, (row, offset): (&[(usize, f64)], f64), u: &[f64], tau: f64) -> bool {
-    let p = linalg::row_dot(row, u) - offset;
-    offset.is_finite() && if active { p >= -tau } else { p > tau }
+fn stays_active(active: bool, point: (&[(usize, f64)], f64), u: &[f64], tau: f64) -> bool {
+    let p = penetration(point, u);
+    point.1.is_finite() && if active { p >= -tau } else { p > tau }
 }
 
 /// Refuses a law whose force rows differ from its gap rows (Nitsche with θ ≠ 1): its step
