@@ -359,7 +359,33 @@ fn main_result(cli: Cli) -> Result<()> {
     }
 }
 
+/// SIGTERM is taken on a thread of its own: blocked in every thread (set before any other thread
+/// starts, so that all inherit it) and awaited by one, which ends the process by SIGTERM's
+/// default action. METIS (`linalg::ordering`) replaces the SIGTERM handler while it orders a
+/// matrix, with one that would jump into its own stack from whichever thread the signal reached;
+/// a blocked signal never runs a handler, so a kill during an ordering ends the run as any other.
+#[cfg(unix)]
+fn take_sigterm_on_its_own_thread() {
+    use nix::sys::signal::{raise, sigaction, SaFlags, SigAction, SigHandler, SigSet, Signal};
+    let mut term = SigSet::empty();
+    term.add(Signal::SIGTERM);
+    if term.thread_block().is_err() {
+        return;
+    }
+    std::thread::spawn(move || {
+        if term.wait().is_ok() {
+            let default = SigAction::new(SigHandler::SigDfl, SaFlags::empty(), SigSet::empty());
+            // SAFETY: restoring the default action installs no handler code.
+            let _ = unsafe { sigaction(Signal::SIGTERM, &default) };
+            let _ = term.thread_unblock();
+            let _ = raise(Signal::SIGTERM);
+        }
+    });
+}
+
 fn main() -> ExitCode {
+    #[cfg(unix)]
+    take_sigterm_on_its_own_thread();
     match main_result(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -2,13 +2,13 @@
 //! analysed and factored once, then solved in place without allocating (faer's `MemStack`); a
 //! simplicial Cholesky factor is solved by plain column sweeps.
 
-use super::sparse::{bandwidth, triplets, SpMat, NARROW_BAND};
+use super::ordering::Ordering;
+use super::sparse::{triplets, SpMat};
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, IntranodeLbltRef, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
-    SymmetricOrdering,
 };
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
 use faer::sparse::SparseColMatRef;
@@ -16,12 +16,12 @@ use faer::{Conj, MatMut, Par, Side};
 
 /// Which factorisation a [`Factor`] holds.
 pub(super) enum Kind {
-    /// `A = L Lᵀ` (A SPD), fill-reducing ordering from faer's AMD.
+    /// `P A Pᵀ = L Lᵀ` (A SPD), P the fill-reducing [`Ordering`].
     Llt {
         symbolic: SymbolicCholesky<usize>,
         values: Vec<f64>,
     },
-    /// `P A Pᵀ = L B Lᵀ` (A symmetric indefinite), AMD ordering, Bunch–Kaufman pivoting within
+    /// `P A Pᵀ = L B Lᵀ` (A symmetric indefinite), the fill-reducing [`Ordering`], Bunch–Kaufman pivoting within
     /// faer's supernodes.
     Lblt {
         symbolic: SymbolicCholesky<usize>,
@@ -159,6 +159,20 @@ pub(super) fn numeric_llt(
     Ok(values)
 }
 
+/// The symbolic analysis of the symmetric `a` (lower triangle) in its fill-reducing
+/// [`Ordering`].
+fn analyse(a: &SpMat, name: &str) -> Result<SymbolicCholesky<usize>> {
+    let identity: Vec<usize> = (0..a.nrows()).collect();
+    let ordering = Ordering::of(a);
+    factorize_symbolic_cholesky(
+        a.symbolic(),
+        Side::Lower,
+        ordering.faer(&identity),
+        Default::default(),
+    )
+    .map_err(|e| factor_err(name, e))
+}
+
 impl Factor {
     /// Sparse Cholesky of a symmetric positive definite matrix (both triangles stored; the lower
     /// one is read). `name` is used in the error when `A` is not numerically SPD.
@@ -166,16 +180,7 @@ impl Factor {
         check_finite(a, name)?;
         let n = a.nrows();
         let par = par_for(n);
-        // A narrow band (1D meshes) factors without fill in its own order; AMD otherwise.
-        let identity: Vec<usize> = (0..n).collect();
-        let ordering = if bandwidth(a) <= NARROW_BAND {
-            SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(&identity, &identity, n))
-        } else {
-            SymmetricOrdering::Amd
-        };
-        let symbolic =
-            factorize_symbolic_cholesky(a.symbolic(), Side::Lower, ordering, Default::default())
-                .map_err(|e| factor_err(name, e))?;
+        let symbolic = analyse(a, name)?;
         let values = numeric_llt(&symbolic, a.as_ref(), par, name)?;
         let buffer = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, par))
             .map_err(|e| factor_err(name, e))?;
@@ -236,7 +241,7 @@ impl Factor {
     }
 
     /// Sparse `P A Pᵀ = L B Lᵀ` of a symmetric, possibly indefinite matrix (both triangles
-    /// stored; the lower one is read): AMD ordering as for Cholesky, Bunch–Kaufman pivoting within
+    /// stored; the lower one is read): ordered as for Cholesky ([`Ordering`]), Bunch–Kaufman pivoting within
     /// faer's supernodes. Far less fill than [`Factor::lu`]'s column ordering on a symmetric
     /// saddle system (the singular dynamic Q2 sphere, n = 8, 58 470 unknowns: see
     /// [`Factor::symmetric_indefinite`]). The pivoting does not cross supernodes, so a pivot can be
@@ -245,13 +250,7 @@ impl Factor {
         check_finite(a, name)?;
         let n = a.nrows();
         let par = par_for(n);
-        let symbolic = factorize_symbolic_cholesky(
-            a.symbolic(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            Default::default(),
-        )
-        .map_err(|e| factor_err(name, e))?;
+        let symbolic = analyse(a, name)?;
         let mut values = vec![0.0; symbolic.len_val()];
         let mut subdiag = vec![0.0; n];
         let (mut fwd, mut inv) = (vec![0usize; n], vec![0usize; n]);

@@ -4,12 +4,14 @@
 //! - [`quadratic`]: `xᵀ A x` (energies);
 //! - [`vectors`]: inner products and vector updates;
 //! - [`factor`]: the direct factor (sparse Cholesky / LU), analysed and factored once;
+//! - [`ordering`]: the fill-reducing orderings of the factorisations (AMD, nested dissection);
 //! - [`single`]: a Cholesky factor in single precision (preconditioners);
 //! - [`block`]: symmetric matrices stored by node blocks;
 //! - [`pcg`]: preconditioned conjugate gradients.
 
 pub mod block;
 pub mod factor;
+pub mod ordering;
 pub mod pcg;
 pub mod products;
 pub mod quadratic;
