@@ -13,7 +13,9 @@
 //! 5 minutes, 6 GB; it needs the machine to itself): `cargo bench --bench targets -- 1.04M`. Its
 //! stand-in on a shared machine, the n = 24 sphere (171 363 dofs), has the same limits scaled by
 //! its dofs. When the default sphere ran with a larger one, a last line per larger sphere gives
-//! its cost per dof·step over the default one's (target at 10⁶ dofs: ≤ 1.25).
+//! its cost per dof·step over the default one's (target at 10⁶ dofs: ≤ 1.25), also for the
+//! 10⁶-dof sphere at the default's Courant number (`-- 52k "dt 0.02"`: Δt ∝ h, as in a
+//! convergence study).
 
 use dyncontact::cases::{self, Overrides};
 use dyncontact::study::profile::cpu_seconds;
@@ -34,6 +36,9 @@ struct Target {
 /// The default sphere and the 10⁶-dof one, whose costs per dof·step are compared.
 const SPHERE: &str = "hertz3d sphere Q1 n 16 (52k dofs), defaults";
 const MILLION: &str = "hertz3d sphere Q1 n 44 (1.04M dofs) x 300 steps";
+/// The 10⁶-dof sphere at the default sphere's Courant number (Δt ∝ h, as the finest level of a
+/// convergence study: Δt = 0.05 · 16/44 ≈ 0.018, here 0.02).
+const COURANT: &str = "hertz3d sphere Q1 n 44 (1.04M dofs), dt 0.02 x 300 steps";
 /// The 10⁶-dof sphere's stand-in on a shared machine.
 const STAND_IN: &str = "hertz3d sphere Q1 n 24 (171k dofs) x 300 steps";
 /// Dofs of the 10⁶-dof sphere and of its stand-in (default grading).
@@ -122,6 +127,22 @@ fn targets() -> Vec<Target> {
             repeat: 1,
             memory_gb: Some(6.0),
         },
+        // The same sphere with Δt ∝ h: its CG iterations per solve are the default sphere's
+        // (the growth at fixed Δt is the Courant number's), so its cost per dof·step is compared
+        // too. The same limits.
+        Target {
+            name: COURANT,
+            file: "cases/hertz3d.toml",
+            overrides: Overrides {
+                elements: Some(44),
+                dt: Some(0.02),
+                t_end: Some(6.0),
+                ..Default::default()
+            },
+            limit: 300.0,
+            repeat: 1,
+            memory_gb: Some(6.0),
+        },
         // The same limits per dof (0.96 µs per dof·step, 5.8 KB per dof) at n = 24.
         Target {
             name: STAND_IN,
@@ -187,7 +208,11 @@ fn main() {
             cpu_seconds() - cpu_before
         );
     }
-    for (large, label) in [(MILLION, "1.04M"), (STAND_IN, "171k")] {
+    for (large, label) in [
+        (MILLION, "1.04M"),
+        (COURANT, "1.04M at dt ∝ h"),
+        (STAND_IN, "171k"),
+    ] {
         let (Some(small), Some(large)) = (per_dof_step.get(SPHERE), per_dof_step.get(large)) else {
             continue;
         };
