@@ -1,6 +1,7 @@
 //! The contact-coupled step solved without a factorisation: preconditioned conjugate gradients
-//! on the constant step matrix `A = m M + k K` (SPD, mass-dominated at the time steps of
-//! elastodynamics: `k λ_max(M⁻¹K)` small, so CG converges in a few iterations from a good guess),
+//! on the constant step matrix `A = m M + k K` (SPD; mass-dominated on the blocks at Δt = 10⁻³,
+//! `k λ_max(M⁻¹K)` ≈ 10⁻², where CG converges in a few iterations from a good guess, but not on
+//! the graded sphere at its Δt: `k K_ii / M_ii` has median 8.8 at n = 16 and 20 at n = 24),
 //! and the Signorini law by a primal–dual active set on the contact points (Hintermüller, Ito,
 //! Kunisch, SIAM J. Optim. 13, 2003).
 //!
