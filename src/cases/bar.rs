@@ -240,32 +240,19 @@ pub struct BarFieldError<'a> {
     fem: &'a Discretisation,
     exact: &'a dyn PiecewiseLinearBar,
     rule: Vec<(f64, f64)>,
-    /// `(h M̂, K̂ / h)` in local node order (left to right), padded to 3 × 3.
-    reference: ([[f64; 3]; 3], [[f64; 3]; 3]),
+    /// `(h M̂, K̂ / h)`.
+    reference: SegmentNorms,
 }
 
 impl<'a> BarFieldError<'a> {
     /// The evaluator of fields on `fem` (a uniform interval mesh) against `exact`.
     pub fn new(fem: &'a Discretisation, exact: &'a dyn PiecewiseLinearBar) -> Self {
         let (p, h) = (fem.mesh.element.degree, fem.mesh.h);
-        let el = Segment { degree: p };
-        let pad = |m: nalgebra::DMatrix<f64>| {
-            let mut a = [[0.0; 3]; 3];
-            for (i, row) in a.iter_mut().enumerate().take(m.nrows()) {
-                for (j, x) in row.iter_mut().enumerate().take(m.ncols()) {
-                    *x = m[(i, j)];
-                }
-            }
-            a
-        };
         Self {
             fem,
             exact,
             rule: gauss_legendre_01(3),
-            reference: (
-                pad(segment_mass(el, h, 1.0)),
-                pad(segment_stiffness(el, h, 1.0)),
-            ),
+            reference: SegmentNorms::new(p, h),
         }
     }
 
@@ -336,20 +323,52 @@ fn linear_pieces(ex: &dyn PiecewiseLinearBar, t: f64, kinks: [f64; 2]) -> [(f64,
     })
 }
 
-/// `Σ_K (eᵀ m e, eᵀ k e)` over the elements of N nodes (N − 1 = degree) whose nodal values are
-/// consecutive windows of `err` (m = h M̂, k = K̂ / h).
-fn nodal_sums<const N: usize>(err: &[f64], m: &[[f64; 3]; 3], k: &[[f64; 3]; 3]) -> (f64, f64) {
-    let (mut l2, mut h1) = (0.0, 0.0);
-    for w in err.windows(N).step_by(N - 1) {
-        let e: [f64; N] = w.try_into().unwrap_or([0.0; N]);
-        for i in 0..N {
-            for j in 0..N {
-                l2 += m[i][j] * e[i] * e[j];
-                h1 += k[i][j] * e[i] * e[j];
+/// The reference forms of a P_p segment of length h, `m = h M̂` and `k = K̂ / h` in local node
+/// order (left to right), padded to 3 × 3: for the P_p function with nodal values e on the
+/// segment, `‖e‖²_{L²} = eᵀ m e` and `|e|²_{H¹} = eᵀ k e`.
+pub(super) struct SegmentNorms {
+    m: [[f64; 3]; 3],
+    k: [[f64; 3]; 3],
+}
+
+impl SegmentNorms {
+    pub(super) fn new(degree: usize, h: f64) -> Self {
+        let el = Segment { degree };
+        let pad = |m: nalgebra::DMatrix<f64>| {
+            let mut a = [[0.0; 3]; 3];
+            for (i, row) in a.iter_mut().enumerate().take(m.nrows()) {
+                for (j, x) in row.iter_mut().enumerate().take(m.ncols()) {
+                    *x = m[(i, j)];
+                }
             }
+            a
+        };
+        Self {
+            m: pad(segment_mass(el, h, 1.0)),
+            k: pad(segment_stiffness(el, h, 1.0)),
         }
     }
-    (l2, h1)
+
+    /// `(eᵀ m e, eᵀ k e)` for the nodal values e of one element (p + 1 ≤ 3 of them).
+    pub(super) fn sums(&self, e: &[f64]) -> (f64, f64) {
+        let (mut l2, mut h1) = (0.0, 0.0);
+        for (i, ei) in e.iter().enumerate() {
+            for (j, ej) in e.iter().enumerate() {
+                l2 += self.m[i][j] * ei * ej;
+                h1 += self.k[i][j] * ei * ej;
+            }
+        }
+        (l2, h1)
+    }
+
+    /// `Σ_K (eᵀ m e, eᵀ k e)` over the elements of `nodes` nodes (nodes − 1 = degree) whose
+    /// nodal values are consecutive windows of `err`.
+    fn over_windows(&self, err: &[f64], nodes: usize) -> (f64, f64) {
+        err.windows(nodes)
+            .step_by(nodes - 1)
+            .map(|w| self.sums(w))
+            .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y))
+    }
 }
 
 impl FieldError for BarFieldError<'_> {
@@ -369,11 +388,8 @@ impl FieldError for BarFieldError<'_> {
         let nodal_error: Vec<f64> = (0..=p * n_el)
             .map(|i| self.nodal(u, i) - exact_at(i as f64 * h_node))
             .collect();
-        let (m, k) = &self.reference;
-        let (mut l2, mut h1) = match p {
-            1 => nodal_sums::<2>(&nodal_error, m, k),
-            _ => nodal_sums::<3>(&nodal_error, m, k),
-        };
+        let norms = &self.reference;
+        let (mut l2, mut h1) = norms.over_windows(&nodal_error, p + 1);
         // The elements cut by a kink: their nodal sums replaced by the piecewise rule.
         for e in crate::util::unique(kinks.map(|c| (c / h).floor() as usize)) {
             if e >= n_el {
@@ -383,10 +399,7 @@ impl FieldError for BarFieldError<'_> {
             if !kinks.iter().any(|&c| c > xa && c < xa + h) {
                 continue;
             }
-            let (nm, nk) = match p {
-                1 => nodal_sums::<2>(&nodal_error[e..e + 2], m, k),
-                _ => nodal_sums::<3>(&nodal_error[2 * e..2 * e + 3], m, k),
-            };
+            let (nm, nk) = norms.sums(&nodal_error[p * e..=p * e + p]);
             let (a, b) = self.by_quadrature(u, e, t, kinks);
             l2 += a - nm;
             h1 += b - nk;

@@ -228,6 +228,22 @@ impl TwoBars {
         out
     }
 
+    /// The exact `u_y(·, t)` of bar k as the linear function it is between consecutive fronts
+    /// (R and Λ are constant there): `(right end, value at y = 0 of the line, slope σ/E)`, left
+    /// to right, the last ending at L_k; one evaluation per piece.
+    pub fn linear_pieces(&self, k: usize, t: f64) -> Vec<(f64, f64, f64)> {
+        let mut left = 0.0;
+        let ends = self.fronts(k, t).into_iter().chain([self.lengths[k]]);
+        ends.map(|right| {
+            let mid = 0.5 * (left + right);
+            let (u, sigma, _) = self.local(k, mid, t);
+            let slope = sigma / self.young;
+            left = right;
+            (right, u - slope * mid, slope)
+        })
+        .collect()
+    }
+
     /// The end of the first contact: the start of the first separated segment whose gap opens.
     pub fn separation(&self) -> Option<f64> {
         self.segments
@@ -357,6 +373,30 @@ mod tests {
             assert!((e2 - 0.5 * p2 * p2 / l2 - vibration).abs() < 1e-12, "{l2}");
             let (_, s, v) = ex.local(0, 0.5, t);
             assert!(s == 0.0 && v == 1.0, "short bar at −v₀: {s} {v}");
+        }
+    }
+
+    /// The pieces between the fronts reproduce the field: `u_y` and `σ = E u_y'` at points away
+    /// from the fronts, at times of contact, grazing and flight.
+    #[test]
+    fn linear_pieces_reproduce_the_field_between_the_fronts() {
+        let ex = TwoBars::new([1.0, 1.7], 2.0, 0.5, 0.8, 12.0);
+        for k in 0..2 {
+            for i in 0..60 {
+                let t = 0.017 + 0.19 * i as f64;
+                let pieces = ex.linear_pieces(k, t);
+                assert_eq!(pieces.last().map(|p| p.0), Some(ex.lengths[k]));
+                for j in 0..41 {
+                    let y = ex.lengths[k] * j as f64 / 40.0;
+                    if ex.fronts(k, t).iter().any(|f| (f - y).abs() < 1e-9) {
+                        continue;
+                    }
+                    let p = pieces[pieces.partition_point(|p| p.0 < y).min(pieces.len() - 1)];
+                    let (u, s, _) = ex.local(k, y, t);
+                    assert!((p.1 + p.2 * y - u).abs() < 1e-12, "u at {k} {y} {t}");
+                    assert!((ex.young * p.2 - s).abs() < 1e-12, "σ at {k} {y} {t}");
+                }
+            }
         }
     }
 
