@@ -35,6 +35,7 @@ use crate::problem::Problem;
 use crate::space::Space;
 use serde::Deserialize;
 use std::path::PathBuf;
+use std::sync::OnceLock;
 
 /// `[material]`.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -242,6 +243,9 @@ pub struct Body {
     pub history: Vec<super::sweep::HistorySpec>,
     /// The report's oblique-impact study.
     pub oblique: Option<ObliqueStudy>,
+    /// [`Body::centre`], computed on first use (a mass assembly; the report's estimates and
+    /// figures ask a case for it several times).
+    centre: OnceLock<(Vec<(usize, f64)>, f64)>,
 }
 
 /// The oblique-impact study of an `oblique3d` case: `[oblique]` with the material's ν and μ.
@@ -610,6 +614,7 @@ impl Body {
                 mu: friction,
                 poisson: m.poisson,
             }),
+            centre: OnceLock::new(),
         })
     }
 }
@@ -618,17 +623,20 @@ impl Body {
     /// The centre of mass's weights `(dof, w = ∫ρ φ_i / m)` on the components along e_d (its
     /// displacement towards the plane is `−Σ w U_dof`) and the discrete mass `m = Σ ∫ρ φ_i`.
     pub fn centre(&self) -> (Vec<(usize, f64)>, f64) {
-        let fem = &self.fem;
-        let d = fem.dim();
-        let w = fem.nodal_masses(&fem.mass_model());
-        let m: f64 = w.iter().sum();
-        let centre = w
-            .iter()
-            .enumerate()
-            .filter(|(_, &x)| x != 0.0)
-            .map(|(i, x)| (i * d + d - 1, x / m))
-            .collect();
-        (centre, m)
+        let compute = || {
+            let fem = &self.fem;
+            let d = fem.dim();
+            let w = fem.nodal_masses(&fem.mass_model());
+            let m: f64 = w.iter().sum();
+            let centre = w
+                .iter()
+                .enumerate()
+                .filter(|(_, &x)| x != 0.0)
+                .map(|(i, x)| (i * d + d - 1, x / m))
+                .collect();
+            (centre, m)
+        };
+        self.centre.get_or_init(compute).clone()
     }
 }
 
