@@ -161,12 +161,11 @@ impl CompliantStep {
         if active == self.active {
             return Ok(());
         }
-        let terms = (0..self.rows.len())
-            .filter(|&i| active[i])
-            .map(|i| (self.rows[i].clone(), self.stiffness[i]))
+        let kappa: Vec<f64> = (self.stiffness.iter().zip(&active))
+            .map(|(&k, &on)| if on { k } else { 0.0 })
             .collect();
         self.active = active;
-        self.pcg.set_rank_one(terms, NAME)
+        self.pcg.set_reserved_rank_one(&kappa, NAME)
     }
 
     /// CG on the step matrix with the active terms; with `(offset, τ)`, it stops early (from a
