@@ -310,16 +310,11 @@ impl<'a> BarFieldError<'a> {
 
 /// The exact `u(·, t)` as the linear function it is on each of the (up to three) intervals
 /// between 0, the two kinks and L: `(right end, value at 0 of the line, slope)`.
-fn linear_pieces(ex: &dyn PiecewiseLinearBar, t: f64, kinks: [f64; 2]) -> [(f64, f64, f64); 3] {
-    let l = ex.length();
-    let ends = [kinks[0], kinks[1], l];
-    let mut left = 0.0;
-    ends.map(|right| {
-        let mid = 0.5 * (left + right);
-        let (u, sigma, _) = ex.field(mid, t);
-        let slope = sigma / ex.young();
-        left = right;
-        (right, u - slope * mid, slope)
+fn linear_pieces(ex: &dyn PiecewiseLinearBar, t: f64, kinks: [f64; 2]) -> Vec<(f64, f64, f64)> {
+    let ends = [kinks[0], kinks[1], ex.length()];
+    crate::exact::lines_between(ends, ex.young(), |x| {
+        let (u, sigma, _) = ex.field(x, t);
+        (u, sigma)
     })
 }
 

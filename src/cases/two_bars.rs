@@ -176,9 +176,13 @@ impl Case for TwoBars {
     }
 
     fn field_error(&self) -> Option<Box<dyn FieldError + '_>> {
+        let norms = self.bodies.parts.iter();
         Some(Box::new(TwoBarsFieldError {
             case: self,
             rule: gauss_legendre_01(3),
+            norms: norms
+                .map(|p| SegmentNorms::new(p.mesh.element.degree, 1.0))
+                .collect(),
         }))
     }
 
@@ -207,6 +211,8 @@ impl Case for TwoBars {
 struct TwoBarsFieldError<'a> {
     case: &'a TwoBars,
     rule: Vec<(f64, f64)>,
+    /// Each bar's reference forms on a unit element (scaled by its length, element by element).
+    norms: Vec<SegmentNorms>,
 }
 
 impl FieldError for TwoBarsFieldError<'_> {
@@ -229,7 +235,6 @@ impl FieldError for TwoBarsFieldError<'_> {
                 (sign * (at0 + slope * y), slope)
             };
             let fronts: Vec<f64> = pieces[..last].iter().map(|p| sign * p.0).collect();
-            let norms = SegmentNorms::new(seg.degree, 1.0);
             // Buffers reused over the cells (this runs at every step of every two-bar run).
             let (mut nodal, mut cuts) = (Vec::new(), Vec::new());
             for cell in &mesh.connectivity {
@@ -245,7 +250,7 @@ impl FieldError for TwoBarsFieldError<'_> {
                     for (e, &i) in nodal.iter_mut().zip(cell) {
                         *e -= exact(mesh.nodes[i][0]).0;
                     }
-                    let (a, b) = norms.sums(&nodal);
+                    let (a, b) = self.norms[k].sums(&nodal);
                     l2 += (xb - xa) * a;
                     h1 += b / (xb - xa);
                     continue;

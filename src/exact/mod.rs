@@ -31,6 +31,26 @@ pub trait ExactContact: Send + Sync {
     fn first_impact(&self) -> Option<f64>;
 }
 
+/// The lines of a 1D field that is linear between consecutive `ends` (increasing, from 0): for
+/// each piece `(right end, value at 0 of the line, slope σ/E)`, from `field(x) = (u, σ)` at its
+/// midpoint.
+pub fn lines_between(
+    ends: impl IntoIterator<Item = f64>,
+    young: f64,
+    field: impl Fn(f64) -> (f64, f64),
+) -> Vec<(f64, f64, f64)> {
+    let mut left = 0.0;
+    ends.into_iter()
+        .map(|right| {
+            let mid = 0.5 * (left + right);
+            let (u, sigma) = field(mid);
+            let slope = sigma / young;
+            left = right;
+            (right, u - slope * mid, slope)
+        })
+        .collect()
+}
+
 /// An exact 1D bar solution (bar (0, L), modulus E) that is piecewise linear in x at every t,
 /// with at most two kinks (its wave fronts): the bar cases' field errors are exact per piece
 /// ([`crate::cases::bar::BarFieldError`]).

@@ -232,16 +232,11 @@ impl TwoBars {
     /// (R and Λ are constant there): `(right end, value at y = 0 of the line, slope σ/E)`, left
     /// to right, the last ending at L_k; one evaluation per piece.
     pub fn linear_pieces(&self, k: usize, t: f64) -> Vec<(f64, f64, f64)> {
-        let mut left = 0.0;
         let ends = self.fronts(k, t).into_iter().chain([self.lengths[k]]);
-        ends.map(|right| {
-            let mid = 0.5 * (left + right);
-            let (u, sigma, _) = self.local(k, mid, t);
-            let slope = sigma / self.young;
-            left = right;
-            (right, u - slope * mid, slope)
+        super::lines_between(ends, self.young, |y| {
+            let (u, sigma, _) = self.local(k, y, t);
+            (u, sigma)
         })
-        .collect()
     }
 
     /// The end of the first contact: the start of the first separated segment whose gap opens.
