@@ -114,9 +114,8 @@ struct FactoredBlock {
     /// `A_SS` itself, refactored with the rank-one terms when they change; after
     /// [`Pcg::reserve_rank_one`], on the pattern of every reserved term (explicit zeros).
     a_ss: SpMat,
-    /// Whether `a_ss` holds the reserved pattern, analysed once.
-    reserved: bool,
-    /// For each reserved row, its pairs inside the block: `(position in a_ss's values, v_i v_j)`.
+    /// For each reserved row, its pairs inside the block: `(position in a_ss's values, v_i v_j)`
+    /// (empty before [`Pcg::reserve_rank_one`]).
     positions: Vec<Vec<(usize, f64)>>,
 }
 
@@ -372,7 +371,6 @@ impl Pcg {
                 dofs,
                 factor,
                 a_ss,
-                reserved: false,
                 positions: Vec::new(),
             })
         };
@@ -411,7 +409,6 @@ impl Pcg {
             }
             bl.a_ss = t.build()?;
             bl.factor = SingleFactor::cholesky(&bl.a_ss, &block_name(name))?;
-            bl.reserved = true;
             let a = bl.a_ss.as_ref();
             bl.positions = rows
                 .iter()
@@ -467,13 +464,13 @@ impl Pcg {
     /// reservation this refuses.
     pub fn set_rank_one(&mut self, terms: Vec<(Vec<(usize, f64)>, f64)>, name: &str) -> Result<()> {
         let n = self.r.len();
+        if !self.reserved_rows.is_empty() {
+            return Err(Error::Internal(format!(
+                "{name}: rows are reserved: their terms go through set_reserved_rank_one"
+            )));
+        }
         if let Some(bl) = self.block.as_mut() {
             let name = block_name(name);
-            if bl.reserved {
-                return Err(Error::Internal(format!(
-                    "{name}: rows are reserved: their terms go through set_reserved_rank_one"
-                )));
-            }
             let index = block_index(&bl.dofs, n);
             let mut t = TripletBuilder::new(bl.dofs.len(), bl.dofs.len());
             t.add_scaled(0, 0, 1.0, &bl.a_ss);
