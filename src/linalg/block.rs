@@ -102,35 +102,47 @@ impl<T: BlockValue> Clone for BlockSym<T> {
     }
 }
 
+/// Dofs per node of the square `a` numbered node by node (a vector field in 2D or 3D): the b ∈
+/// {3, 2} for which its pattern is made of aligned b × b blocks (every column of a node has the
+/// rows of the node's first, in whole nodes), 1 when neither is.
+pub fn node_size(a: &SpMat) -> usize {
+    let (cp, ri, _) = csc(a);
+    let n = a.ncols();
+    let aligned = |b: usize| {
+        let nodes = |jb: usize| {
+            let rows = &ri[cp[b * jb]..cp[b * jb + 1]];
+            let same = (1..b).all(|c| ri[cp[b * jb + c]..cp[b * jb + c + 1]] == *rows);
+            let whole = |block: &[usize]| {
+                block[0].is_multiple_of(b)
+                    && block.iter().enumerate().all(|(r, &i)| i == block[0] + r)
+            };
+            same && rows.len() % b == 0 && rows.chunks_exact(b).all(whole)
+        };
+        n.is_multiple_of(b) && u32::try_from(n / b).is_ok() && (0..n / b).all(nodes)
+    };
+    if a.nrows() != n {
+        return 1;
+    }
+    [3, 2].into_iter().find(|&b| aligned(b)).unwrap_or(1)
+}
+
 impl BlockSym {
     /// The block form of `a`, when its pattern is made of aligned b × b blocks for b = 3 or 2.
     pub fn new(a: &SpMat) -> Option<Self> {
-        [3, 2].into_iter().find_map(|b| Self::with_block(a, b))
+        let b = node_size(a);
+        (b > 1).then(|| Self::with_block(a, b))
     }
 
-    fn with_block(a: &SpMat, b: usize) -> Option<Self> {
+    /// The blocks of `a`, whose pattern is made of aligned b × b blocks ([`node_size`]).
+    fn with_block(a: &SpMat, b: usize) -> Self {
         let upper = b == 3;
         let (cp, ri, v) = csc(a);
         let n = a.ncols();
-        if !n.is_multiple_of(b) || a.nrows() != n || u32::try_from(n / b).is_err() {
-            return None;
-        }
         let mut ptr = vec![0];
         let (mut idx, mut val) = (Vec::new(), Vec::new());
         for jb in 0..n / b {
             let rows = &ri[cp[b * jb]..cp[b * jb + 1]];
-            if rows.len() % b != 0 {
-                return None;
-            }
-            for c in 1..b {
-                if ri[cp[b * jb + c]..cp[b * jb + c + 1]] != *rows {
-                    return None;
-                }
-            }
             for (k, block) in rows.chunks_exact(b).enumerate() {
-                if block[0] % b != 0 || block.iter().enumerate().any(|(r, &i)| i != block[0] + r) {
-                    return None;
-                }
                 if upper && block[0] / b > jb {
                     continue;
                 }
@@ -151,7 +163,7 @@ impl BlockSym {
         let cuts = (0..=PARTS)
             .map(|p| ptr.partition_point(|&q| q < blocks * p / PARTS).min(n / b))
             .collect();
-        Some(Self {
+        Self {
             b,
             upper,
             ptr,
@@ -160,7 +172,7 @@ impl BlockSym {
             rest: Vec::new(),
             cuts,
             parts: std::sync::Mutex::new(Vec::new()),
-        })
+        }
     }
 
     /// The same matrix with its values rounded to single precision (half the memory traffic of

@@ -19,7 +19,7 @@ pub mod single;
 pub mod sparse;
 pub mod vectors;
 
-pub use block::{BlockSym, BlockValue};
+pub use block::{node_size, BlockSym, BlockValue};
 pub use factor::Factor;
 pub use pcg::{principal_submatrix, Pcg, Tie};
 pub use products::{mul, mul_add, mul_t_add, sym_mul, PARALLEL_NNZ};
