@@ -144,16 +144,17 @@ impl IterativeStep {
         let n = a.nrows();
         let mut block = massless_neighbourhood(m, k);
         if others.iter().any(|o| !o.is_empty()) {
-            // Pair rows: every dof of the rows in the factored block (two_spheres, 300 steps:
-            // 70 s CPU, against 78 s with the massless dofs alone).
+            // Pair rows: each row's dofs on the component of its own dof in the factored block
+            // (two_spheres, 300 steps: 24.7 → 19.4 s wall against every dof of the rows, the
+            // outputs within 2e-6 relative; 70 s CPU against 78 s for every dof of the rows
+            // against the massless dofs alone, measured before).
             let mut in_block = vec![false; n];
-            let rows = points.iter().map(|p| p.0);
-            for i in block
-                .iter()
-                .copied()
-                .chain(rows)
-                .chain(others.iter().flatten().map(|e| e.0))
-            {
+            let b = linalg::node_size(k);
+            let partners = points.iter().zip(&others).flat_map(|(&(d, _), row)| {
+                let mine = row.iter().filter(move |e| e.0 % b == d % b);
+                std::iter::once(d).chain(mine.map(|e| e.0))
+            });
+            for i in block.iter().copied().chain(partners) {
                 in_block[i] = true;
             }
             block = (0..n).filter(|&i| in_block[i]).collect();
