@@ -75,7 +75,7 @@ impl CompliantStep {
         let rows = linalg::rows(&problem.contact.b_n);
         let mut in_block = vec![false; n];
         let b = linalg::node_size(k);
-        for i in massless_neighbourhood(m, k)
+        for i in massless_neighbourhood(m, k, b)
             .into_iter()
             .chain(rows.iter().flat_map(|row| leading_component(row, b)))
         {
