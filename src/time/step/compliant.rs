@@ -13,11 +13,12 @@
 //! ([`leading_component`]), factored again with the active terms when 𝒜 changes (the terms'
 //! entries outside the block, about 1/γ₀ of those inside, are left to the product: with every
 //! dof of the rows in the block the default sphere took 19.5–21.1 s wall against 13.9–14.2 s,
-//! 652 solves against 649, the outputs within 3.5e-4 relative); U starts from the cubic extrapolation and 𝒜 from the previous
-//! step's, updated once from that guess. A solve stops early, from a residual of 1e-7 ‖b‖ down,
-//! at the first iterate under which 𝒜 would change (the nodal cg step's rule): hertz3d 54.5 →
-//! 42.5 s CPU, 38.0 → 32.4 s wall (2026-11-25, quiet machine; nodal 24 s CPU, 14.5 s wall), the
-//! probe's displacement and force within 3.2e-7 of their largest values. The block is analysed
+//! 652 solves against 649, the outputs within 3.5e-4 relative); U starts from the cubic
+//! extrapolation and 𝒜 from the previous step's, updated once from that guess. A solve stops
+//! early, from a residual of 1e-7 ‖b‖ down, at the first iterate under which 𝒜 would change
+//! (the nodal cg step's rule): hertz3d 54.5 → 42.5 s CPU, 38.0 → 32.4 s wall (2026-11-25,
+//! quiet machine; nodal 24 s CPU, 14.5 s wall), the probe's displacement and force within
+//! 3.2e-7 of their largest values. The block is analysed
 //! once for every point's terms ([`Pcg::reserve_rank_one`]), so that a change of 𝒜 refactors
 //! values only: 46.0 → 35.4 s CPU, 36.2 → 25.8 s wall, the same outputs to the last digit.
 //!
@@ -73,15 +74,9 @@ impl CompliantStep {
         let a = linalg::lin_comb(m_coef, m, k_coef, k)?;
         let n = a.nrows();
         let rows = linalg::rows(&problem.contact.b_n);
-        let mut in_block = vec![false; n];
         let b = linalg::node_size(k);
-        for i in massless_neighbourhood(m, k, b)
-            .into_iter()
-            .chain(rows.iter().flat_map(|row| leading_component(row, b)))
-        {
-            in_block[i] = true;
-        }
-        let block = (0..n).filter(|&i| in_block[i]).collect();
+        let leading = rows.iter().flat_map(|row| leading_component(row, b));
+        let block = massless_neighbourhood(m, k, b, leading);
         let mut pcg = Pcg::with_block(&a, NAME, block)?;
         pcg.reserve_rank_one(&rows, NAME)?;
         Ok(Self {

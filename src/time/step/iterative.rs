@@ -144,22 +144,17 @@ impl IterativeStep {
         let a = linalg::lin_comb(m_coef, m, k_coef, k)?;
         let n = a.nrows();
         let b = linalg::node_size(k);
-        let mut block = massless_neighbourhood(m, k, b);
-        if others.iter().any(|o| !o.is_empty()) {
-            // Pair rows: each row's dofs on the component of its own dof in the factored block
-            // (two_spheres, 300 steps: 24.7 → 19.4 s wall against every dof of the rows, the
-            // outputs within 2e-6 relative; 70 s CPU against 78 s for every dof of the rows
-            // against the massless dofs alone, measured before).
-            let mut in_block = vec![false; n];
-            let partners = points.iter().zip(&others).flat_map(|(&(d, _), row)| {
-                let mine = row.iter().filter(move |e| e.0 % b == d % b);
-                std::iter::once(d).chain(mine.map(|e| e.0))
-            });
-            for i in block.iter().copied().chain(partners) {
-                in_block[i] = true;
-            }
-            block = (0..n).filter(|&i| in_block[i]).collect();
-        }
+        // Pair rows: each row's dofs on the component of its own dof in the factored block
+        // (two_spheres, 300 steps: 24.7 → 19.4 s wall against every dof of the rows, the
+        // outputs within 2e-6 relative; 70 s CPU against 78 s for every dof of the rows
+        // against the massless dofs alone, measured before).
+        let pairs = others.iter().any(|o| !o.is_empty());
+        let partners = points.iter().zip(&others).filter(|_| pairs);
+        let partners = partners.flat_map(|(&(d, _), row)| {
+            let mine = row.iter().filter(move |e| e.0 % b == d % b);
+            std::iter::once(d).chain(mine.map(|e| e.0))
+        });
+        let block = massless_neighbourhood(m, k, b, partners);
         Ok(Self {
             pcg: Pcg::with_block(&a, NAME, block)?,
             rows: points.iter().map(|&(d, _)| column(&a, d)).collect(),
@@ -405,14 +400,23 @@ fn thresholds(u: &[f64], r: &[f64], c: f64) -> (f64, f64) {
 /// 300 steps) for a factor of 10 times the entries (612 360 against 58 747), whose solve on
 /// one core bounded the CG pass beside it: at n = 44 (1 040 163 dofs, 30 630 against 10 210 in
 /// the block, 6.19M against 0.70M entries) 6.0 against 1.2 ms per iteration, 16.1 against 13.1
-/// ms for the whole iteration. `b`: dofs per node ([`linalg::node_size`]).
-pub(super) fn massless_neighbourhood(m: &SpMat, k: &SpMat, b: usize) -> Vec<usize> {
+/// ms for the whole iteration. `b`: dofs per node ([`linalg::node_size`]); the dofs `with`
+/// (the contact rows' that the caller factors too) are added, the result in increasing order.
+pub(super) fn massless_neighbourhood(
+    m: &SpMat,
+    k: &SpMat,
+    b: usize,
+    with: impl IntoIterator<Item = usize>,
+) -> Vec<usize> {
     let mass = linalg::diagonal(m);
     let mut block = vec![false; mass.len()];
     for (i, j, _) in linalg::triplets(k) {
         if mass[j] == 0.0 && i % b == j % b {
             block[i] = true;
         }
+    }
+    for i in with {
+        block[i] = true;
     }
     (0..mass.len()).filter(|&i| block[i]).collect()
 }
