@@ -68,8 +68,9 @@ pub struct Pcg {
     jacobi: NodalJacobi,
     /// The block of the preconditioner solved by its factor, if any.
     block: Option<FactoredBlock>,
-    /// Terms `κ_i r_i r_iᵀ` added to A ([`Pcg::set_rank_one`]).
-    rank_one: Vec<(Vec<(usize, f64)>, f64)>,
+    /// The terms `κ_i r_i r_iᵀ` added to A, as `(i, κ_i)` over the reserved rows r_i
+    /// ([`Pcg::set_reserved_rank_one`]; κ_i ≠ 0).
+    rank_one: Vec<(usize, f64)>,
     /// The rows of [`Pcg::reserve_rank_one`].
     reserved_rows: Vec<Vec<(usize, f64)>>,
     /// Tied dofs `x_p = Σ_j t_j x_j` ([`Pcg::set_ties`]).
@@ -276,17 +277,19 @@ fn block_name(name: &str) -> String {
     format!("{name} (stiffness-dominated block)")
 }
 
-/// `y += Π Σ_i κ_i r_i (r_iᵀ x)` (Π: zero where not `free`, when given), returning its part of
-/// `xᵀ y`, `Σ_i κ_i (r_iᵀ x) (r_iᵀ Π x)`.
+/// `y += Π Σ_i κ_i r_i (r_iᵀ x)` over the terms `(i, κ_i)` of the `rows` (Π: zero where not
+/// `free`, when given), returning its part of `xᵀ y`, `Σ_i κ_i (r_iᵀ x) (r_iᵀ Π x)`.
 fn add_rank_one(
-    terms: &[(Vec<(usize, f64)>, f64)],
+    terms: &[(usize, f64)],
+    rows: &[Vec<(usize, f64)>],
     y: &mut [f64],
     x: &[f64],
     free: Option<&[bool]>,
 ) -> f64 {
     let kept = |j: usize| free.is_none_or(|f| f[j]);
     let mut xy = 0.0;
-    for (row, kappa) in terms {
+    for &(i, kappa) in terms {
+        let row = &rows[i];
         let s = super::row_dot(row, x);
         let mut s_kept = 0.0;
         for &(j, v) in row.iter().filter(|e| kept(e.0)) {
@@ -393,11 +396,11 @@ impl Pcg {
         self.block.as_ref().map_or(0, |b| b.dofs.len())
     }
 
-    /// Analyses the factored block once for every term [`Pcg::set_rank_one`] may add on these
-    /// rows: the block's pattern becomes `A_SS` with every pair of a row's dofs inside the block
-    /// (explicit zeros), so that a change of the terms refactors its values only (hertz3d with
-    /// Nitsche: the ordering, the symbolic analysis and the triplet sort at each change of the
-    /// active set took 12 % of the CPU).
+    /// Analyses the factored block once for every term [`Pcg::set_reserved_rank_one`] may add on
+    /// these rows: the block's pattern becomes `A_SS` with every pair of a row's dofs inside the
+    /// block (explicit zeros), so that a change of the terms refactors its values only (hertz3d
+    /// with Nitsche: the ordering, the symbolic analysis and the triplet sort at each change of
+    /// the active set took 12 % of the CPU).
     pub fn reserve_rank_one(&mut self, rows: &[Vec<(usize, f64)>], name: &str) -> Result<()> {
         let n = self.r.len();
         if let Some(bl) = self.block.as_mut() {
@@ -427,10 +430,11 @@ impl Pcg {
         Ok(())
     }
 
-    /// As [`Pcg::set_rank_one`] with the terms `κ_i r_i r_iᵀ` of the rows reserved by
-    /// [`Pcg::reserve_rank_one`] (`κ_i = 0`: no term), their entries in the block located once
-    /// there (hertz3d with Nitsche: locating them at every change of the active set took 5 % of
-    /// the CPU).
+    /// Solves with `A + Σ_i κ_i r_i r_iᵀ` from now on (`r_i` the rows reserved by
+    /// [`Pcg::reserve_rank_one`], `κ_i ≥ 0`, 0: no term; the active points of a compliant contact
+    /// law), until the next call. The factored block is factored again with the terms' entries
+    /// inside it, located once by the reservation (hertz3d with Nitsche: locating them at every
+    /// change of the active set took 5 % of the CPU); those outside it are left to the product.
     pub fn set_reserved_rank_one(&mut self, kappa: &[f64], name: &str) -> Result<()> {
         if kappa.len() != self.reserved_rows.len() {
             return Err(Error::Internal(format!(
@@ -448,38 +452,8 @@ impl Pcg {
             }
             bl.refactor(&values, name)?;
         }
-        let rows = self.reserved_rows.iter().zip(kappa);
-        self.rank_one = rows
-            .filter(|e| *e.1 != 0.0)
-            .map(|(r, &k)| (r.clone(), k))
-            .collect();
-        Ok(())
-    }
-
-    /// Solves with `A + Σ_i κ_i r_i r_iᵀ` from now on (sparse rows `r_i`, `κ_i ≥ 0`: the active
-    /// points of a compliant contact law), until the next call; the factored block is analysed
-    /// and factored again with the terms' entries inside it (those outside it are left to the
-    /// product: the caller puts the rows' dofs in the block). Rows known in advance are better
-    /// reserved ([`Pcg::reserve_rank_one`], then [`Pcg::set_reserved_rank_one`]); after a
-    /// reservation this refuses.
-    pub fn set_rank_one(&mut self, terms: Vec<(Vec<(usize, f64)>, f64)>, name: &str) -> Result<()> {
-        let n = self.r.len();
-        if !self.reserved_rows.is_empty() {
-            return Err(Error::Internal(format!(
-                "{name}: rows are reserved: their terms go through set_reserved_rank_one"
-            )));
-        }
-        if let Some(bl) = self.block.as_mut() {
-            let name = block_name(name);
-            let index = block_index(&bl.dofs, n);
-            let mut t = TripletBuilder::new(bl.dofs.len(), bl.dofs.len());
-            t.add_scaled(0, 0, 1.0, &bl.a_ss);
-            for (row, kappa) in &terms {
-                for_pairs_inside(row, &index, |i, j, v| t.add(i, j, kappa * v));
-            }
-            bl.factor = SingleFactor::cholesky(&t.build()?, &name)?;
-        }
-        self.rank_one = terms;
+        let terms = kappa.iter().copied().enumerate();
+        self.rank_one = terms.filter(|e| e.1 != 0.0).collect();
         Ok(())
     }
 
@@ -490,7 +464,7 @@ impl Pcg {
     /// that of A, restricted to the untied dofs (SPD there, so CG converges to the same
     /// tolerance): refactoring the block as `T_SSᵀ A_SS T_SS` at every change of the ties cost
     /// more than the iterations it saved (two_spheres, 103 302 dofs, 300 steps: 84 s CPU
-    /// against 70 s). Not with [`Pcg::set_rank_one`] terms.
+    /// against 70 s). Not with rank-one terms ([`Pcg::set_reserved_rank_one`]).
     pub fn set_ties(&mut self, ties: Vec<Tie>) {
         self.ties = ties;
     }
@@ -559,7 +533,7 @@ impl Pcg {
     fn residual(&mut self, b: &[f64], x: &[f64], (free, wide): (&[bool], &[bool])) -> f64 {
         let (r, q) = (&mut self.r, &mut self.q);
         self.op.mul(q, x);
-        add_rank_one(&self.rank_one, q, x, None);
+        add_rank_one(&self.rank_one, &self.reserved_rows, q, x, None);
         for i in 0..x.len() {
             r[i] = if wide[i] { b[i] - q[i] } else { 0.0 };
         }
@@ -583,6 +557,7 @@ impl Pcg {
             jacobi,
             block,
             rank_one,
+            reserved_rows,
             ties,
             r,
             z,
@@ -604,8 +579,8 @@ impl Pcg {
                 break;
             }
             expand(ties, p);
-            let curvature =
-                op.mul_masked_dot_fast(q, p, wide) + add_rank_one(rank_one, q, p, Some(free));
+            let curvature = op.mul_masked_dot_fast(q, p, wide)
+                + add_rank_one(rank_one, reserved_rows, q, p, Some(free));
             fold(ties, q, free);
             let alpha = rz / curvature;
             if let Some(bl) = block.as_mut() {
@@ -655,8 +630,9 @@ mod tests {
     }
 
     /// Rank-one terms on reserved rows refactor the block on its analysed pattern: the solve of
-    /// `(A + Σ κ_i r_i r_iᵀ) x = b` agrees with the dense solve to CG's tolerance, as without the
-    /// reservation; after it, terms other than the reserved rows' are refused.
+    /// `(A + Σ κ_i r_i r_iᵀ) x = b` agrees with the dense solve to CG's tolerance, with a block
+    /// holding every dof of the rows and with one leaving a dof of a term to the product; a
+    /// coefficient per reserved row is required.
     #[test]
     fn reserved_rank_one_terms_refactor_the_block() {
         let n = 30;
@@ -679,24 +655,20 @@ mod tests {
             .lu()
             .solve(&nalgebra::DVector::from_column_slice(&b))
             .unwrap();
-        for reserve in [false, true] {
-            let mut pcg = Pcg::with_block(&a, "A", block.clone()).unwrap();
-            if reserve {
-                pcg.reserve_rank_one(&rows, "A").unwrap();
-                pcg.set_reserved_rank_one(&[0.0, 50.0, 0.0, 7.0], "A")
-                    .unwrap();
-            } else {
-                pcg.set_rank_one(terms.clone(), "A").unwrap();
-            }
+        // Dof 13 of the second term outside the block of 0..12.
+        for block in [block.clone(), (0..12).collect()] {
+            let last = block.len();
+            let mut pcg = Pcg::with_block(&a, "A", block).unwrap();
+            pcg.reserve_rank_one(&rows, "A").unwrap();
+            pcg.set_reserved_rank_one(&[0.0, 50.0, 0.0, 7.0], "A")
+                .unwrap();
             let mut x = vec![0.0; n];
             pcg.solve(&b, &mut x, &vec![true; n], (1e-12, 200)).unwrap();
             let err = max_diff(&x, exact.as_slice());
-            assert!(err < 1e-9, "reserve {reserve}: error {err:.3e}");
+            assert!(err < 1e-9, "block 0..{last}: error {err:.3e}");
         }
         let mut pcg = Pcg::with_block(&a, "A", block).unwrap();
         pcg.reserve_rank_one(&rows[..1], "A").unwrap();
-        let outside = pcg.set_rank_one(vec![(vec![(10, 1.0), (12, 1.0)], 1.0)], "A");
-        assert!(outside.is_err());
         assert!(pcg.set_reserved_rank_one(&[1.0, 2.0], "A").is_err());
     }
 
