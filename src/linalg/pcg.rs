@@ -155,13 +155,21 @@ impl FactoredBlock {
 /// Jacobi by nodes (consecutive groups of `b` dofs, b = 1, 2 or 3): `z_k = D_k⁻¹ r_k` with `D_k`
 /// the diagonal block of node k, restricted to its dofs outside the factored block (and with a
 /// positive diagonal). For 3D elasticity, 3 × 3 nodal blocks take 10 % fewer CG iterations than
-/// the scalar diagonal (hertz3d n = 20, 60 steps: 3 036 against 3 359).
+/// the scalar diagonal (hertz3d n = 20, 60 steps: 3 036 against 3 359). The inverses are stored
+/// as their upper triangles in single precision (exactly symmetric; a third of the memory
+/// traffic of the full blocks in double precision, which the CG pass of the 10⁶-dof sphere read
+/// at 25 MB per iteration).
 #[derive(Debug)]
 struct NodalJacobi {
     b: usize,
-    /// `D_k⁻¹` of every node, row-major (b² entries), with zero rows and columns on the
-    /// excluded dofs.
-    inv: Vec<f64>,
+    /// `D_k⁻¹` of every node, its upper triangle row by row (b (b + 1) / 2 entries), with zero
+    /// rows and columns on the excluded dofs.
+    inv: Vec<f32>,
+}
+
+/// Position of entry (r, c), r ≤ c, in the upper triangle of a B × B block stored row by row.
+const fn packed<const B: usize>(r: usize, c: usize) -> usize {
+    r * B - r * (r + 1) / 2 + c
 }
 
 impl NodalJacobi {
@@ -191,7 +199,14 @@ impl NodalJacobi {
                 }
             }
         }
-        Ok(Self { b, inv: blocks })
+        let upper: Vec<usize> = (0..b)
+            .flat_map(|r| (r..b).map(move |c| r * b + c))
+            .collect();
+        let inv = blocks.chunks_exact(b * b);
+        let inv = inv
+            .flat_map(|block| upper.iter().map(|&e| block[e] as f32))
+            .collect();
+        Ok(Self { b, inv })
     }
 
     /// `z = Π D⁻¹ r` on the nodes of `r` (a whole number of nodes from node `first`), returning
@@ -212,12 +227,14 @@ impl NodalJacobi {
         z: &mut [f64],
         free: &[bool],
     ) -> f64 {
-        let inv = self.inv[first * B * B..].chunks_exact(B * B);
+        let size = B * (B + 1) / 2;
+        let inv = self.inv[first * size..].chunks_exact(size);
         let nodes = z.chunks_exact_mut(B).zip(r.chunks_exact(B));
         let mut rz = [0.0; 4];
         for (k, ((z, r), (inv, free))) in nodes.zip(inv.zip(free.chunks_exact(B))).enumerate() {
+            let entry = |a: usize, c: usize| f64::from(inv[packed::<B>(a.min(c), a.max(c))]);
             for a in 0..B {
-                let v: f64 = (0..B).map(|c| inv[a * B + c] * r[c]).sum();
+                let v: f64 = (0..B).map(|c| entry(a, c) * r[c]).sum();
                 z[a] = if free[a] { v } else { 0.0 };
                 rz[k % 4] += r[a] * z[a];
             }
@@ -672,8 +689,8 @@ mod tests {
         assert!(pcg.set_reserved_rank_one(&[1.0, 2.0], "A").is_err());
     }
 
-    /// `z_k = D_k⁻¹ r_k` on the kept dofs of each node (`D_k z_k = r_k` there), 0 on the
-    /// excluded and the fixed ones.
+    /// `z_k = D_k⁻¹ r_k` on the kept dofs of each node (`D_k z_k = r_k` there, to the single
+    /// precision of the stored inverse), 0 on the excluded and the fixed ones.
     #[test]
     fn nodal_jacobi_inverts_the_diagonal_blocks_on_the_kept_dofs() {
         let a = two_nodes([[5.0, 1.0, -1.0], [1.0, 4.0, 0.3], [-1.0, 0.3, 3.0]]);
@@ -690,7 +707,7 @@ mod tests {
         for &i in &kept {
             let block_row: f64 = kept.iter().map(|&j| a.get(i, j).unwrap() * z[j]).sum();
             assert!(
-                (block_row - r[i]).abs() < 1e-14,
+                (block_row - r[i]).abs() < 1e-6,
                 "dof {i}: {block_row} against {}",
                 r[i]
             );
