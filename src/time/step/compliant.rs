@@ -15,8 +15,8 @@
 //! dof of the rows in the block the default sphere took 19.5–21.1 s wall against 13.9–14.2 s,
 //! 652 solves against 649, the outputs within 3.5e-4 relative); U starts from the cubic
 //! extrapolation and 𝒜 from the previous step's, updated once from that guess. A solve stops
-//! early, from a residual of 1e-7 ‖b‖ down, at the first iterate under which 𝒜 would change
-//! (the nodal cg step's rule): hertz3d 54.5 → 42.5 s CPU, 38.0 → 32.4 s wall (2026-11-25,
+//! early, from a residual of [`ACTIVE_SET_CHECK`] ‖b‖ down, at the first iterate under which 𝒜
+//! would change (the nodal cg step's rule; measured from 1e-7 ‖b‖): hertz3d 54.5 → 42.5 s CPU, 38.0 → 32.4 s wall (2026-11-25,
 //! quiet machine; nodal 24 s CPU, 14.5 s wall), the probe's displacement and force within
 //! 3.2e-7 of their largest values. The block is analysed
 //! once for every point's terms ([`Pcg::reserve_rank_one`]), so that a change of 𝒜 refactors

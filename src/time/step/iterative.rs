@@ -57,9 +57,11 @@ pub(super) const CG_MAX_ITERATIONS: usize = 5000;
 pub(super) const MAX_ACTIVE_SET_UPDATES: usize = 50;
 /// Relative residual from which CG stops early at an iterate that changes the active set
 /// (hertz3d n = 20, 60 steps: 2 602, 2 631, 2 689 and 2 783 CG iterations from 1e-5, 1e-6,
-/// 1e-7 and 1e-8, in 113, 77, 76 and 76 solves: at 1e-5 many early verdicts are spurious, from
-/// 1e-6 down they are not).
-pub(super) const ACTIVE_SET_CHECK: f64 = 1e-7;
+/// 1e-7 and 1e-8, in 113, 77, 76 and 76 solves; n = 44, the first 100 steps: 9 030, 9 084,
+/// 9 222 and 10 112 iterations from 1e-5, 3e-6, 1e-6 and 1e-7, in 352, 200, 177 and 165
+/// solves, 184, 159, 158 s wall for the first three: at 1e-5 many early verdicts are spurious,
+/// and each costs a solve's two exact products; n = 16, 300 steps: 9 650 against 9 703).
+pub(super) const ACTIVE_SET_CHECK: f64 = 1e-6;
 /// Relative thresholds τ of the active-set update (above CG's accuracy, so that round-off
 /// does not flip a grazing point).
 pub(super) const ACTIVE_SET_TOLERANCE: f64 = 1e-8;
