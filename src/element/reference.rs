@@ -142,9 +142,9 @@ impl RefElement {
             Shape::Tensor => {
                 for a in 0..n {
                     let ix = self.tensor_index(a);
-                    let f: Vec<(f64, f64)> = (0..self.dim)
-                        .map(|k| lagrange_1d(self.degree, ix[k], xi[k]))
-                        .collect();
+                    let f: [(f64, f64); 3] =
+                        std::array::from_fn(|k| lagrange_1d(self.degree, ix[k], xi[k]));
+                    let f = &f[..self.dim];
                     v[a] = f.iter().map(|x| x.0).product();
                     for (k, gk) in g[a].iter_mut().enumerate().take(self.dim) {
                         *gk = (0..self.dim)

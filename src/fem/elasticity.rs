@@ -37,20 +37,23 @@ impl Lame {
 /// Element stiffness (`dim · n` square) of the cell with node coordinates `x`.
 pub fn element_stiffness(el: &RefElement, x: &[[f64; 3]], lame: Lame) -> DMatrix<f64> {
     let (n, d) = (el.n_nodes(), el.dim);
-    let mut k = DMatrix::zeros(n * d, n * d);
+    let nd = n * d;
+    let mut k = DMatrix::zeros(nd, nd);
+    // Column-major: entry (i, j) at i + j nd.
+    let kv = k.as_mut_slice();
     for (xi, w) in el.quadrature() {
         let (_, g, det) = physical(el, x, xi);
         let wd = w * det;
-        for a in 0..n {
-            for b in 0..n {
-                let dot: f64 = (0..d).map(|l| g[a][l] * g[b][l]).sum();
+        for (a, ga) in g.iter().enumerate() {
+            for (b, gb) in g.iter().enumerate() {
+                let dot: f64 = (0..d).map(|l| ga[l] * gb[l]).sum();
                 for c in 0..d {
                     for e in 0..d {
-                        let mut s = lame.lambda * g[a][c] * g[b][e] + lame.mu * g[a][e] * g[b][c];
+                        let mut s = lame.lambda * ga[c] * gb[e] + lame.mu * ga[e] * gb[c];
                         if c == e {
                             s += lame.mu * dot;
                         }
-                        k[(a * d + c, b * d + e)] += wd * s;
+                        kv[a * d + c + (b * d + e) * nd] += wd * s;
                     }
                 }
             }
