@@ -10,17 +10,17 @@
 //! the same solution as the direct step's Newton method on the Delassus operator, to CG's
 //! tolerance. The preconditioner is the cg step's (Jacobi by nodes, the massless dofs and their
 //! neighbours factored), with the rows' dofs on their leading component in the factored block
-//! ([`leading_component`]), factored again with the active terms when 𝒜 changes (the terms'
-//! entries outside the block, about 1/γ₀ of those inside, are left to the product: with every
-//! dof of the rows in the block the default sphere took 19.5–21.1 s wall against 13.9–14.2 s,
-//! 652 solves against 649, the outputs within 3.5e-4 relative); U starts from the cubic
-//! extrapolation and 𝒜 from the previous step's, updated once from that guess. A solve stops
-//! early, from a residual of [`ACTIVE_SET_CHECK`] ‖b‖ down, at the first iterate under which 𝒜
-//! would change (the nodal cg step's rule; measured from 1e-7 ‖b‖): hertz3d 54.5 → 42.5 s CPU, 38.0 → 32.4 s wall (2026-11-25,
-//! quiet machine; nodal 24 s CPU, 14.5 s wall), the probe's displacement and force within
-//! 3.2e-7 of their largest values. The block is analysed
-//! once for every point's terms ([`Pcg::reserve_rank_one`]), so that a change of 𝒜 refactors
-//! values only: 46.0 → 35.4 s CPU, 36.2 → 25.8 s wall, the same outputs to the last digit.
+//! ([`leading_component`]), factored again with the active terms when 𝒜 changes (the terms' entries
+//! outside the block, about 1/γ₀ of those inside, are left to the product: with every dof of the
+//! rows in the block the default sphere took 19.5–21.1 s wall against 13.9–14.2 s, 652 solves
+//! against 649, the outputs within 3.5e-4 relative); U starts from the cubic extrapolation and 𝒜
+//! from the previous step's, updated once from that guess. A solve stops early, from a residual of
+//! [`ACTIVE_SET_CHECK`] ‖b‖ down, at the first iterate under which 𝒜 would change (the nodal cg
+//! step's rule; measured from 1e-7 ‖b‖): hertz3d 54.5 → 42.5 s CPU, 38.0 → 32.4 s wall (2026-11-25,
+//! quiet machine; nodal 24 s CPU, 14.5 s wall), the probe's displacement and force within 3.2e-7 of
+//! their largest values. The block is analysed once for every point's terms
+//! ([`Pcg::reserve_rank_one`]), so that a change of 𝒜 refactors values only: 46.0 → 35.4 s CPU,
+//! 36.2 → 25.8 s wall, the same outputs to the last digit.
 //!
 //! Measured on the default hertz3d sphere (mass redistribution, 51 651 dofs × 300 steps, load
 //! average about 6, `/usr/bin/time`): 61 s CPU, 75 s wall, 0.46 GB, against 168 s CPU, 365 s
