@@ -174,7 +174,7 @@ const fn packed<const B: usize>(r: usize, c: usize) -> usize {
 
 impl NodalJacobi {
     /// The nodal blocks of `a` inverted on the dofs not `excluded`; errors (naming the node)
-    /// when one is not positive definite.
+    /// when one is not positive definite, or its inverse is beyond single precision's range.
     fn new(a: &SpMat, b: usize, excluded: &[bool], name: &str) -> Result<Self> {
         let mut blocks = vec![0.0; a.nrows() * b];
         for (i, j, v) in triplets(a).filter(|(i, j, _)| i / b == j / b) {
@@ -193,6 +193,16 @@ impl NodalJacobi {
                     format!("not positive definite: the diagonal block of node {k}"),
                 )
             })?;
+            if inv.iter().any(|v| (*v as f32).is_infinite()) {
+                return Err(factor_err(
+                    name,
+                    format!(
+                        "the inverse of the diagonal block of node {k} is beyond single \
+                         precision's range (|entry| > {:.1e}): rescale the units",
+                        f32::MAX
+                    ),
+                ));
+            }
             for r in 0..b {
                 for c in 0..b {
                     block[r * b + c] = if kept[r] && kept[c] { inv[(r, c)] } else { 0.0 };
@@ -723,6 +733,20 @@ mod tests {
         let a = two_nodes([[1.0, 2.0, 0.0], [2.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
         let err = Pcg::new(&a, "A").unwrap_err().to_string();
         assert!(err.contains("node 0"), "{err}");
+    }
+
+    /// A nodal block whose inverse the single-precision Jacobi cannot hold (entries of 1e-40)
+    /// is refused, naming the node, instead of an infinite preconditioner.
+    #[test]
+    fn a_nodal_inverse_beyond_single_precision_is_refused() {
+        let a = two_nodes([[1e-40, 0.0, 0.0], [0.0, 1e-40, 0.0], [0.0, 0.0, 1e-40]]);
+        let err = NodalJacobi::new(&a, 3, &[false; 6], "A")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("node 0") && err.contains("single precision"),
+            "{err}"
+        );
     }
 
     /// The CG iterates are formed in fixed chunks and parts: one thread or two give the same
