@@ -180,20 +180,21 @@ impl NodalJacobi {
         for (i, j, v) in triplets(a).filter(|(i, j, _)| i / b == j / b) {
             blocks[(i / b) * b * b + (i % b) * b + j % b] += v;
         }
-        for (k, block) in blocks.chunks_exact_mut(b * b).enumerate() {
+        let mut inv = Vec::with_capacity(a.nrows() / b * b * (b + 1) / 2);
+        for (k, block) in blocks.chunks_exact(b * b).enumerate() {
             let kept = |r: usize| !excluded[k * b + r] && block[r * b + r] > 0.0;
             let kept: [bool; 3] = std::array::from_fn(|r| r < b && kept(r));
             let m = nalgebra::Matrix3::from_fn(|r, c| match (kept[r], kept[c]) {
                 (true, true) => block[r * b + c],
                 _ => f64::from(u8::from(r == c)),
             });
-            let inv = m.cholesky().map(|l| l.inverse()).ok_or_else(|| {
+            let d = m.cholesky().map(|l| l.inverse()).ok_or_else(|| {
                 factor_err(
                     name,
                     format!("not positive definite: the diagonal block of node {k}"),
                 )
             })?;
-            if inv.iter().any(|v| (*v as f32).is_infinite()) {
+            if d.iter().any(|v| (*v as f32).is_infinite()) {
                 return Err(factor_err(
                     name,
                     format!(
@@ -204,18 +205,15 @@ impl NodalJacobi {
                 ));
             }
             for r in 0..b {
-                for c in 0..b {
-                    block[r * b + c] = if kept[r] && kept[c] { inv[(r, c)] } else { 0.0 };
+                for c in r..b {
+                    inv.push(if kept[r] && kept[c] {
+                        d[(r, c)] as f32
+                    } else {
+                        0.0
+                    });
                 }
             }
         }
-        let upper: Vec<usize> = (0..b)
-            .flat_map(|r| (r..b).map(move |c| r * b + c))
-            .collect();
-        let inv = blocks.chunks_exact(b * b);
-        let inv = inv
-            .flat_map(|block| upper.iter().map(|&e| block[e] as f32))
-            .collect();
         Ok(Self { b, inv })
     }
 
