@@ -365,12 +365,15 @@ fn next_direction(p: &mut [f64], z: &[f64], beta: f64) {
         .for_each(|(p, z)| scale_add(p, beta, 1.0, z));
 }
 
-/// Single-precision values of a 3 × 3 block matrix from which CG uses symmetric Gauss–Seidel
-/// ([`gauss_seidel`]) instead of nodal Jacobi: where its two sweeps on one core, each streaming
-/// the values, cost less than the product on two for the iterations they save. Measured on
+/// Single-precision values of a 3 × 3 block matrix with a factored block from which CG uses
+/// symmetric Gauss–Seidel ([`gauss_seidel`]) instead of nodal Jacobi: where its two sweeps on
+/// one core, each streaming the values, cost less than the product on two for the iterations
+/// they save. Measured on
 /// hertz3d (2 cores): n = 32, 17M values, the first 100 steps: 35.8 s against 33.5 s; n = 44,
 /// 44M values, 300 steps: 5 min 40 s–5 min 59 s against 6 min 20 s–6 min 24 s; the values of
-/// n = 16 (2.2M) stay in the cache, where it loses most (8.8 s against 6.85 s).
+/// n = 16 (2.2M) stay in the cache, where it loses most (8.8 s against 6.85 s). Only with a
+/// factored block: without one (the standard mass, n = 44, the first 30 steps) it took 65.2 s
+/// against 55.1 s.
 const GAUSS_SEIDEL_FROM: usize = 32 << 20;
 
 /// The name of the factored block of the matrix `name` in messages.
@@ -447,7 +450,10 @@ impl Pcg {
     /// `P = blockdiag(A_SS, D)`. Meant for the dofs where the stiffness dominates the step
     /// matrix (massless dofs of mass redistribution, small cells), which Jacobi resolves badly.
     pub fn with_block(a: &SpMat, name: &str, dofs: Vec<usize>) -> Result<Self> {
-        Self::build(a, name, dofs, |b| b.stored_values() >= GAUSS_SEIDEL_FROM)
+        let factored = !dofs.is_empty();
+        Self::build(a, name, dofs, |b| {
+            factored && b.stored_values() >= GAUSS_SEIDEL_FROM
+        })
     }
 
     /// As [`Pcg::with_block`], with symmetric Gauss–Seidel's sweeps where `sweeps` holds for
