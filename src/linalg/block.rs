@@ -230,11 +230,7 @@ impl BlockSym<f32> {
 impl BlockSym<f32> {
     /// Forward sweep `(D̃ + L) y = x` in place (L the strictly lower blocks): for J = 0, 1, …,
     /// `y_J = solve(J, x_J − Σ_{I<J} A_IJᵀ y_I)`, a block column's dot.
-    pub fn forward_sweep(
-        &self,
-        x: &mut [f64],
-        mut solve: impl FnMut(usize, [f64; 3]) -> [f64; 3] + Send,
-    ) {
+    pub fn forward_sweep(&self, x: &mut [f64], mut solve: impl FnMut(usize, [f64; 3]) -> [f64; 3]) {
         assert!(self.upper && x.len() == 3 * (self.ptr.len() - 1));
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
@@ -335,7 +331,7 @@ impl BlockSym<f32> {
         &self,
         s: &mut [f64],
         y: &mut [f64],
-        mut solve: impl FnMut(usize, [f64; 3]) -> [f64; 3] + Send,
+        mut solve: impl FnMut(usize, [f64; 3]) -> [f64; 3],
     ) {
         let nodes = self.ptr.len() - 1;
         assert!(self.upper && s.len() == LANES * nodes && y.len() == 3 * nodes);

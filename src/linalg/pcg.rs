@@ -368,12 +368,11 @@ fn next_direction(p: &mut [f64], z: &[f64], beta: f64) {
 /// Single-precision values of a 3 × 3 block matrix with a factored block from which CG uses
 /// symmetric Gauss–Seidel ([`gauss_seidel`]) instead of nodal Jacobi: where its two sweeps on
 /// one core, each streaming the values, cost less than the product on two for the iterations
-/// they save. Measured on
-/// hertz3d (2 cores): n = 32, 17M values, the first 100 steps: 35.8 s against 33.5 s; n = 44,
-/// 44M values, 300 steps: 5 min 40 s–5 min 59 s against 6 min 20 s–6 min 24 s; the values of
-/// n = 16 (2.2M) stay in the cache, where it loses most (8.8 s against 6.85 s). Only with a
-/// factored block: without one (the standard mass, n = 44, the first 30 steps) it took 65.2 s
-/// against 55.1 s.
+/// they save. Measured on hertz3d (2 cores): n = 32, 17M values, the first 100 steps: 35.8 s
+/// against 33.5 s; n = 44, 44M values, 300 steps: 5 min 40 s–5 min 59 s against 6 min 20 s–6
+/// min 24 s; the values of n = 16 (2.2M) stay in the cache, where it loses most (8.8 s against
+/// 6.85 s). Only with a factored block: without one (the standard mass, n = 44, the first 30
+/// steps) it took 65.2 s against 55.1 s.
 const GAUSS_SEIDEL_FROM: usize = 32 << 20;
 
 /// The name of the factored block of the matrix `name` in messages.
@@ -963,9 +962,6 @@ mod tests {
         assert!(worst < 1e-9, "{it} iterations: residual {worst:e}");
     }
 
-    /// With a block solved by its (single-precision) factor, PCG still converges to the solution (a fixed entry inside
-    /// the block included), and the block of a stiff region cuts the iterations: a Laplacian
-    /// whose first half is scaled by 10⁴ needs fewer iterations with that half factored.
     /// Symmetric Gauss–Seidel by Eisenstat's trick solves with fixed dofs inside and outside
     /// the factored block (which it factors again on the free dofs) to the tolerance, in fewer
     /// iterations than nodal Jacobi with the same block, and again after the fixed dofs change.
@@ -1004,6 +1000,9 @@ mod tests {
         }
     }
 
+    /// With a block solved by its (single-precision) factor, PCG still converges to the solution (a fixed entry inside
+    /// the block included), and the block of a stiff region cuts the iterations: a Laplacian
+    /// whose first half is scaled by 10⁴ needs fewer iterations with that half factored.
     #[test]
     fn pcg_with_a_factored_block_converges_faster() {
         let n = 60;

@@ -123,12 +123,7 @@ impl Pcg {
     /// `x ← P⁻¹ x`: the factored block first, its couplings moved to the right-hand side of the
     /// nodes, then the forward sweep over the nodes (with the block's entries of x at 0, so that
     /// the sweep does not count them twice). `visit(J, y_J)` sees each node's result.
-    fn forward(
-        &mut self,
-        x: &mut [f64],
-        free: &[bool],
-        mut visit: impl FnMut(usize, [f64; 3]) + Send,
-    ) {
+    fn forward(&mut self, x: &mut [f64], free: &[bool], mut visit: impl FnMut(usize, [f64; 3])) {
         let gs = self.gauss_seidel.as_ref().expect("sweeps");
         let super::SymOperator::Block(blocks) = &self.op else {
             unreachable!("sweeps need blocks")
