@@ -2,6 +2,8 @@
 
 mod sweeps;
 
+pub use sweeps::Halves;
+
 use super::products::CHUNK;
 use super::sparse::{csc, SpMat};
 use super::vectors::masked_dot;
@@ -115,6 +117,15 @@ impl<T: BlockValue> Clone for BlockSym<T> {
     }
 }
 
+/// First block column of each of the [`PARTS`] of equal work (and the end), from the block
+/// columns' starts `ptr`.
+fn cuts(ptr: &[usize]) -> Vec<usize> {
+    let (blocks, nodes) = (ptr[ptr.len() - 1], ptr.len() - 1);
+    (0..=PARTS)
+        .map(|p| ptr.partition_point(|&q| q < blocks * p / PARTS).min(nodes))
+        .collect()
+}
+
 /// Dofs per node of the square `a` numbered node by node (a vector field in 2D or 3D): the b ∈
 /// {3, 2} for which its pattern is made of aligned b × b blocks (every column of a node has the
 /// rows of the node's first, in whole nodes), 1 when neither is.
@@ -172,10 +183,7 @@ impl BlockSym {
             }
             ptr.push(idx.len());
         }
-        let blocks = idx.len();
-        let cuts = (0..=PARTS)
-            .map(|p| ptr.partition_point(|&q| q < blocks * p / PARTS).min(n / b))
-            .collect();
+        let cuts = cuts(&ptr);
         Self {
             b,
             upper,

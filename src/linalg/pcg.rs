@@ -483,7 +483,7 @@ impl Pcg {
         let jacobi = NodalJacobi::new(a, op.node_size(), &factored, name)?;
         let gauss_seidel = match &op {
             SymOperator::Block(blocks) if sweeps(blocks) => {
-                GaussSeidel::new(a, blocks, &factored, &dofs)
+                GaussSeidel::new(a, blocks, (&factored, &dofs), &jacobi.inv)
             }
             _ => None,
         };

@@ -11,8 +11,11 @@
 //!
 //! `Â p = t + P⁻¹ (p − 2 s + D t)`,  `t = P⁻ᵀ p`,  `s = D̃ t`:
 //!
-//! one backward and one forward sweep, each one pass over the stored blocks (on one thread: each
-//! node needs its predecessors), in place of the product. The iterate in the original variables
+//! one backward and one forward sweep, each one pass over the stored blocks, in place of the
+//! product. Each node needs its predecessors; the nodes are renumbered into two halves that do
+//! not couple and their separator, numbered last ([`BlockSym::halves`]): the halves sweep side by
+//! side on two threads, the separator after them (forward) or before them (backward). This is
+//! symmetric Gauss–Seidel in that order on any number of threads. The iterate in the original variables
 //! moves by `α t`. The residual `r = P r̂` is not formed: CG stops on `r̂ᵀ D r̂ = rᵀ M⁻¹ r` scaled
 //! by its ratio to `‖r‖²` at the start, and the caller checks the exact residual afterwards, as
 //! for the single-precision product. From the run's own guesses (hertz3d, residual 1e-6 to 5e-5
@@ -20,17 +23,33 @@
 
 use super::{packed_mul, FactoredBlock, Pcg, PASS_CHUNK};
 use crate::linalg::block::LANES;
-use crate::linalg::{BlockSym, SpMat};
+use crate::linalg::{dot, BlockSym, SpMat};
+use std::ops::Range;
 
-/// The sweeps' data beside the nodal Jacobi inverses and the factored block of a [`Pcg`].
+/// The sweeps' data beside the factored block of a [`Pcg`]. The nodes are renumbered into
+/// [`Halves`](crate::linalg::block::Halves), whose sweeps run on two threads; the iterations run
+/// in that order.
 #[derive(Debug)]
 pub(super) struct GaussSeidel {
+    /// The node at each position.
+    order: Vec<usize>,
+    /// The nodes of the two halves (the separator follows).
+    sizes: [usize; 2],
+    /// `Π A Πᵀ` by its upper blocks.
+    blocks: BlockSym<f32>,
+    /// The nodal Jacobi inverses, in that order.
+    inv: Vec<f32>,
     /// `D_J` of every node on its dofs outside the factored block (zero rows and columns on
     /// those), its upper triangle in single precision.
     diag: Vec<f32>,
+    /// The factored block's dofs (in its order), renumbered.
+    dofs: Vec<usize>,
     /// For each dof of the factored block (in its order), its column of A outside the block
     /// `(i, A_ij)`: the couplings L between S and the nodes.
     coupling: Vec<Vec<(usize, f64)>>,
+    /// The iterate and the free dofs, renumbered.
+    x: Vec<f64>,
+    free: Vec<bool>,
     /// `s = D̃ t` (accumulated by the backward sweep, [`LANES`] entries per node).
     s: Vec<f64>,
     /// `t = P⁻ᵀ p`.
@@ -43,19 +62,26 @@ pub(super) struct GaussSeidel {
 
 impl GaussSeidel {
     /// The sweeps of `a`, stored by 3 × 3 upper `blocks` (None for other blocks), with the
-    /// factored block on the dofs `factored` (in the block's order `dofs`).
+    /// factored block on the dofs `factored` (in the block's order `dofs`) and the nodal
+    /// Jacobi inverses `inv` elsewhere.
     pub(super) fn new(
         a: &SpMat,
         blocks: &BlockSym<f32>,
-        factored: &[bool],
-        dofs: &[usize],
+        (factored, dofs): (&[bool], &[usize]),
+        inv: &[f32],
     ) -> Option<Self> {
         if !blocks.is_upper() {
             return None;
         }
         let n = a.nrows();
+        let halves = blocks.halves();
+        let mut position = vec![0; n / 3];
+        for (p, &j) in halves.order.iter().enumerate() {
+            position[j] = p;
+        }
+        let renumbered = |i: usize| 3 * position[i / 3] + i % 3;
         let mut diag = Vec::with_capacity(n / 3 * 6);
-        for jb in 0..n / 3 {
+        for &jb in &halves.order {
             let d = blocks.diagonal_block(jb)?;
             let kept = |r: usize| !factored[3 * jb + r];
             for (r, row) in d.iter().enumerate() {
@@ -70,17 +96,43 @@ impl GaussSeidel {
             .map(|&j| {
                 let rows = a.row_idx_of_col_raw(j).iter().copied();
                 let entries = rows.zip(a.val_of_col(j).iter().copied());
-                entries.filter(|&(i, _)| !factored[i]).collect()
+                entries
+                    .filter(|&(i, _)| !factored[i])
+                    .map(|(i, v)| (renumbered(i), v))
+                    .collect()
             })
             .collect();
         Some(Self {
+            blocks: blocks.permuted(&halves.order),
+            inv: (halves.order.iter())
+                .flat_map(|&j| inv[6 * j..6 * j + 6].iter().copied())
+                .collect(),
+            order: halves.order,
+            sizes: halves.sizes,
             diag,
+            dofs: dofs.iter().map(|&i| renumbered(i)).collect(),
             coupling,
+            x: vec![0.0; n],
+            free: vec![false; n],
             s: vec![0.0; n / 3 * LANES],
             t: vec![0.0; n],
             u: vec![0.0; n],
             ys: vec![0.0; dofs.len()],
         })
+    }
+}
+
+/// `to = Π from` by nodes of three entries: `to_p = from_{order(p)}`.
+fn gather<T: Copy>(order: &[usize], from: &[T], to: &mut [T]) {
+    for (to, &j) in to.chunks_exact_mut(3).zip(order) {
+        to.copy_from_slice(&from[3 * j..3 * j + 3]);
+    }
+}
+
+/// `to = Πᵀ from`: `to_{order(p)} = from_p`.
+fn scatter<T: Copy>(order: &[usize], from: &[T], to: &mut [T]) {
+    for (from, &j) in from.chunks_exact(3).zip(order) {
+        to[3 * j..3 * j + 3].copy_from_slice(from);
     }
 }
 
@@ -90,111 +142,168 @@ fn node_free(free: &[bool], jb: usize) -> [bool; 3] {
 }
 
 impl FactoredBlock {
-    /// `y_S = Π A_SS Π x_S` in the block's order.
-    fn mul_free(&self, x: &[f64], free: &[bool], y: &mut [f64]) {
+    /// `y_S = Π A_SS Π x_S` in the block's order (S: the block's `dofs` in x's numbering).
+    fn mul_free(&self, dofs: &[usize], x: &[f64], free: &[bool], y: &mut [f64]) {
         let a = self.a_ss.as_ref();
         for (j, yj) in y.iter_mut().enumerate() {
             *yj = 0.0;
-            if !free[self.dofs[j]] {
+            if !free[dofs[j]] {
                 continue;
             }
             let rows = a.row_idx_of_col_raw(j).iter();
             for (&i, &v) in rows.zip(a.val_of_col(j)) {
-                if free[self.dofs[i]] {
-                    *yj += v * x[self.dofs[i]];
+                if free[dofs[i]] {
+                    *yj += v * x[dofs[i]];
                 }
             }
         }
     }
 
     /// `x_S ← Π D̃_S⁻¹ Π w` with `w_k = rhs(k)` in the block's order (its factor).
-    fn solve_into(&mut self, x: &mut [f64], free: &[bool], rhs: impl Fn(usize) -> f64) {
+    fn solve_into(
+        &mut self,
+        dofs: &[usize],
+        x: &mut [f64],
+        free: &[bool],
+        rhs: impl Fn(usize) -> f64,
+    ) {
         for (k, w) in self.work.iter_mut().enumerate() {
             *w = rhs(k) as f32;
         }
         self.factor.solve_in_place(&mut self.work);
-        for (&w, &i) in self.work.iter().zip(&self.dofs) {
+        for (&w, &i) in self.work.iter().zip(dofs) {
             x[i] = if free[i] { f64::from(w) } else { 0.0 };
         }
+    }
+}
+
+impl GaussSeidel {
+    /// The forward sweep over the nodes with their Jacobi inverses, `x ← (D̃ + L)⁻¹ x` (the
+    /// factored block's entries of x at 0): the halves side by side, then the separator.
+    /// Returns the sum of `visit(J, y_J)` over the nodes (the halves', then the separator's).
+    fn forward_nodes(
+        &self,
+        x: &mut [f64],
+        free: &[bool],
+        visit: impl Fn(usize, [f64; 3]) -> f64 + Sync,
+    ) -> f64 {
+        let [a, b] = self.sizes;
+        let sweep = |held: (usize, &mut [f64]), nodes: Range<usize>| {
+            let mut sum = 0.0;
+            self.blocks.forward_sweep(
+                held,
+                nodes,
+                #[inline(always)]
+                |jb, rhs| {
+                    let y = packed_mul::<3>(&self.inv[6 * jb..], rhs, node_free(free, jb));
+                    sum += visit(jb, y);
+                    y
+                },
+            );
+            sum
+        };
+        let (first, second) = x.split_at_mut(3 * a);
+        let (sa, sb) = rayon::join(
+            || sweep((0, first), 0..a),
+            || sweep((a, &mut second[..3 * b]), a..a + b),
+        );
+        let nodes = x.len() / 3;
+        (sa + sb) + sweep((0, x), a + b..nodes)
+    }
+
+    /// The backward sweep over the nodes, `t = (D̃ + Lᵀ)⁻¹ s` (s = p on entry) and
+    /// `u = p − 2 s + D t` on them: the separator, then the halves side by side.
+    fn backward_nodes(&mut self, p: &[f64], free: &[bool]) {
+        let [a, b] = self.sizes;
+        let Self {
+            blocks,
+            inv,
+            diag,
+            s,
+            t,
+            u,
+            ..
+        } = self;
+        let (blocks, inv, diag) = (&*blocks, &*inv, &*diag);
+        let sweep = |(first, s, t, u): (usize, &mut [f64], &mut [f64], &mut [f64]),
+                     nodes: Range<usize>| {
+            blocks.backward_sweep(
+                (first, s, t),
+                nodes,
+                #[inline(always)]
+                |jb, s| {
+                    let fr = node_free(free, jb);
+                    let t = packed_mul::<3>(&inv[6 * jb..], s, fr);
+                    let dt = packed_mul::<3>(&diag[6 * jb..], t, fr);
+                    for c in 0..3 {
+                        let i = 3 * jb + c;
+                        u[i - 3 * first] = if fr[c] {
+                            p[i] - 2.0 * s[c] + dt[c]
+                        } else {
+                            0.0
+                        };
+                    }
+                    t
+                },
+            );
+        };
+        let nodes = t.len() / 3;
+        sweep((0, s, t, u), a + b..nodes);
+        let (s, sb) = s.split_at_mut(LANES * a);
+        let (t, tb) = t.split_at_mut(3 * a);
+        let (u, ub) = u.split_at_mut(3 * a);
+        rayon::join(
+            || sweep((0, s, t, u), 0..a),
+            || sweep((a, sb, tb, ub), a..a + b),
+        );
     }
 }
 
 impl Pcg {
     /// `x ← P⁻¹ x`: the factored block first, its couplings moved to the right-hand side of the
     /// nodes, then the forward sweep over the nodes (with the block's entries of x at 0, so that
-    /// the sweep does not count them twice). `visit(J, y_J)` sees each node's result.
-    fn forward(&mut self, x: &mut [f64], free: &[bool], mut visit: impl FnMut(usize, [f64; 3])) {
+    /// the sweep does not count them twice). Returns the sum of `visit(J, y_J)` over the nodes.
+    fn forward(
+        &mut self,
+        x: &mut [f64],
+        free: &[bool],
+        visit: impl Fn(usize, [f64; 3]) -> f64 + Sync,
+    ) -> f64 {
         let gs = self.gauss_seidel.as_ref().expect("sweeps");
-        let super::SymOperator::Block(blocks) = &self.op else {
-            unreachable!("sweeps need blocks")
-        };
         let mut xs = Vec::new();
         if let Some(bl) = self.block.as_mut() {
-            let rhs: Vec<f64> = bl.dofs.iter().map(|&i| x[i]).collect();
-            bl.solve_into(x, free, |k| rhs[k]);
-            xs = bl.dofs.iter().map(|&i| std::mem::take(&mut x[i])).collect();
+            let rhs: Vec<f64> = gs.dofs.iter().map(|&i| x[i]).collect();
+            bl.solve_into(&gs.dofs, x, free, |k| rhs[k]);
+            xs = gs.dofs.iter().map(|&i| std::mem::take(&mut x[i])).collect();
             for (col, &v) in gs.coupling.iter().zip(&xs) {
                 for &(i, a) in col {
                     x[i] -= a * v;
                 }
             }
         }
-        let inv = &self.jacobi.inv;
-        blocks.forward_sweep(
-            x,
-            #[inline(always)]
-            |jb, rhs| {
-                let y = packed_mul::<3>(&inv[6 * jb..], rhs, node_free(free, jb));
-                visit(jb, y);
-                y
-            },
-        );
-        if let Some(bl) = self.block.as_ref() {
-            for (&i, v) in bl.dofs.iter().zip(xs) {
-                x[i] = v;
-            }
+        let sum = gs.forward_nodes(x, free, visit);
+        for (&i, v) in gs.dofs.iter().zip(xs) {
+            x[i] = v;
         }
+        sum
     }
 
     /// `t = P⁻ᵀ p` and `u = p − 2 s + D t` (s = D̃ t), the backward sweep over the nodes, then
     /// the factored block, whose right-hand side gathers its couplings to the nodes' t.
     fn backward(&mut self, p: &[f64], free: &[bool]) {
         let gs = self.gauss_seidel.as_mut().expect("sweeps");
-        let super::SymOperator::Block(blocks) = &self.op else {
-            unreachable!("sweeps need blocks")
-        };
-        let (inv, diag) = (&self.jacobi.inv, &gs.diag);
-        let u = &mut gs.u;
-        blocks.backward_sweep(
-            &mut gs.s,
-            &mut gs.t,
-            #[inline(always)]
-            |jb, s| {
-                let fr = node_free(free, jb);
-                let t = packed_mul::<3>(&inv[6 * jb..], s, fr);
-                let dt = packed_mul::<3>(&diag[6 * jb..], t, fr);
-                for c in 0..3 {
-                    let i = 3 * jb + c;
-                    u[i] = if fr[c] {
-                        p[i] - 2.0 * s[c] + dt[c]
-                    } else {
-                        0.0
-                    };
-                }
-                t
-            },
-        );
+        gs.backward_nodes(p, free);
         let Some(bl) = self.block.as_mut() else {
             return;
         };
         // s_S = p_S − L_SNᵀ t_N, t_S = D̃_S⁻¹ s_S, u_S = p_S − 2 s_S + A_SS t_S.
-        let t = &mut gs.t;
-        let s: Vec<f64> = (bl.dofs.iter().zip(&gs.coupling))
+        let (t, u) = (&mut gs.t, &mut gs.u);
+        let s: Vec<f64> = (gs.dofs.iter().zip(&gs.coupling))
             .map(|(&j, col)| p[j] - col.iter().map(|&(i, a)| a * t[i]).sum::<f64>())
             .collect();
-        bl.solve_into(t, free, |k| s[k]);
-        bl.mul_free(t, free, &mut gs.ys);
-        for ((&j, &dt), s) in bl.dofs.iter().zip(&gs.ys).zip(s) {
+        bl.solve_into(&gs.dofs, t, free, |k| s[k]);
+        bl.mul_free(&gs.dofs, t, free, &mut gs.ys);
+        for ((&j, &dt), s) in gs.dofs.iter().zip(&gs.ys).zip(s) {
             u[j] = if free[j] { p[j] - 2.0 * s + dt } else { 0.0 };
         }
     }
@@ -227,8 +336,8 @@ impl Pcg {
         let mut rz = rz.iter().sum::<f64>();
         let (r, z) = (&self.r, &mut self.z);
         if let Some(bl) = self.block.as_ref() {
-            bl.mul_free(r, free, &mut gs.ys);
-            for (&i, &v) in bl.dofs.iter().zip(&gs.ys) {
+            bl.mul_free(&gs.dofs, r, free, &mut gs.ys);
+            for (&i, &v) in gs.dofs.iter().zip(&gs.ys) {
                 z[i] = v;
                 rz += r[i] * v;
             }
@@ -261,17 +370,47 @@ impl Pcg {
     }
 
     /// CG on `Â` from `x` and its residual in `self.r` (as [`Pcg::iterate`], whose contract it
-    /// keeps, with the residual estimated from `r̂ᵀ D r̂`).
+    /// keeps, with the residual estimated from `r̂ᵀ D r̂`), in the sweeps' order of the nodes.
     pub(super) fn iterate_gauss_seidel(
+        &mut self,
+        x: &mut [f64],
+        free: &[bool],
+        limits: (f64, usize),
+        (check2, stop): (f64, &mut impl FnMut(&[f64]) -> bool),
+    ) -> (usize, bool) {
+        let gs = self.gauss_seidel.as_mut().expect("sweeps");
+        let order = std::mem::take(&mut gs.order);
+        let (mut xp, mut fp) = (std::mem::take(&mut gs.x), std::mem::take(&mut gs.free));
+        gather(&order, x, &mut xp);
+        gather(&order, free, &mut fp);
+        gather(&order, &self.r, &mut self.q);
+        std::mem::swap(&mut self.r, &mut self.q);
+        let done = self.cg_gauss_seidel(
+            &mut xp,
+            &fp,
+            limits,
+            (check2, &mut |xp: &[f64]| {
+                scatter(&order, xp, x);
+                stop(x)
+            }),
+        );
+        scatter(&order, &xp, x);
+        let gs = self.gauss_seidel.as_mut().expect("sweeps");
+        (gs.order, gs.x, gs.free) = (order, xp, fp);
+        done
+    }
+
+    /// [`Pcg::iterate_gauss_seidel`] on the renumbered `x`, `free` and `self.r`.
+    fn cg_gauss_seidel(
         &mut self,
         x: &mut [f64],
         free: &[bool],
         (target2, limit): (f64, usize),
         (check2, stop): (f64, &mut impl FnMut(&[f64]) -> bool),
     ) -> (usize, bool) {
-        let res2 = super::dot(&self.r, &self.r);
+        let res2 = dot(&self.r, &self.r);
         let mut r = std::mem::take(&mut self.r);
-        self.forward(&mut r, free, |_, _| {});
+        self.forward(&mut r, free, |_, _| 0.0);
         self.r = r;
         let mut rz = self.update(x, free, 0.0);
         // ‖r‖² ≈ scale · rᵀ M⁻¹ r (exactly at the start).
@@ -287,24 +426,20 @@ impl Pcg {
             }
             let p = std::mem::take(&mut self.p);
             self.backward(&p, free);
-            let mut u = std::mem::take(&mut self.gauss_seidel.as_mut().expect("sweeps").u);
-            let t = std::mem::take(&mut self.gauss_seidel.as_mut().expect("sweeps").t);
-            let mut pv = 0.0;
-            self.forward(
+            let gs = self.gauss_seidel.as_mut().expect("sweeps");
+            let (mut u, t) = (std::mem::take(&mut gs.u), std::mem::take(&mut gs.t));
+            let mut pv = self.forward(
                 &mut u,
                 free,
                 #[inline(always)]
                 |jb, y| {
-                    for (c, yc) in y.iter().enumerate() {
-                        let i = 3 * jb + c;
-                        pv += p[i] * (t[i] + yc);
-                    }
+                    let i = 3 * jb;
+                    (p[i] * (t[i] + y[0]) + p[i + 1] * (t[i + 1] + y[1]))
+                        + p[i + 2] * (t[i + 2] + y[2])
                 },
             );
-            if let Some(bl) = self.block.as_ref() {
-                pv += bl.dofs.iter().map(|&i| p[i] * u[i]).sum::<f64>();
-            }
             let gs = self.gauss_seidel.as_mut().expect("sweeps");
+            pv += gs.dofs.iter().map(|&i| p[i] * u[i]).sum::<f64>();
             (gs.u, gs.t, self.p) = (u, t, p);
             let rz_new = self.update(x, free, rz / pv);
             self.next_direction(rz_new / rz);
