@@ -366,14 +366,16 @@ fn next_direction(p: &mut [f64], z: &[f64], beta: f64) {
 }
 
 /// Single-precision values of a 3 × 3 block matrix with a factored block from which CG uses
-/// symmetric Gauss–Seidel ([`gauss_seidel`]) instead of nodal Jacobi: where its two sweeps on
-/// one core, each streaming the values, cost less than the product on two for the iterations
-/// they save. Measured on hertz3d (2 cores): n = 32, 17M values, the first 100 steps: 35.8 s
-/// against 33.5 s; n = 44, 44M values, 300 steps: 5 min 40 s–5 min 59 s against 6 min 20 s–6
-/// min 24 s; the values of n = 16 (2.2M) stay in the cache, where it loses most (8.8 s against
-/// 6.85 s). Only with a factored block: without one (the standard mass, n = 44, the first 30
-/// steps) it took 65.2 s against 55.1 s.
-const GAUSS_SEIDEL_FROM: usize = 32 << 20;
+/// symmetric Gauss–Seidel ([`gauss_seidel`]) instead of nodal Jacobi: where its two sweeps, each
+/// streaming the values on two threads (the halves), cost less than the product for the
+/// iterations they save. Measured on hertz3d (2 cores, 32 MB of L3 cache), 300 steps: n = 32,
+/// 17M values, 89.2–90.7 s against 102.4–109.2 s; n = 44, 44M values, 4 min 51 s against 6 min
+/// 20–38 s; below, the values stay in the cache, where the product is cheap: n = 24, 7.1M values,
+/// 32.3–34.4 s against 30.0–30.9 s; n = 16, 2.1M values, 7.9–8.1 s against 6.6–6.8 s (quiet
+/// runs). Only with a factored block: without one (the standard mass) it gained nothing at
+/// n = 16 (6.84 s against 6.81 s) and lost at n = 44 before the halves (the first 30 steps, 65.2 s
+/// against 55.1 s).
+const GAUSS_SEIDEL_FROM: usize = 12 << 20;
 
 /// The name of the factored block of the matrix `name` in messages.
 fn block_name(name: &str) -> String {
