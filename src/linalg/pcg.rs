@@ -372,9 +372,9 @@ fn next_direction(p: &mut [f64], z: &[f64], beta: f64) {
 /// 17M values, 89.2–90.7 s against 102.4–109.2 s; n = 44, 44M values, 4 min 51 s against 6 min
 /// 20–38 s; below, the values stay in the cache, where the product is cheap: n = 24, 7.1M values,
 /// 32.3–34.4 s against 30.0–30.9 s; n = 16, 2.1M values, 7.9–8.1 s against 6.6–8.7 s (6.6–6.8
-/// in the quiet runs). Only with a factored block: without one (the standard mass) it gained nothing at
-/// n = 16 (6.84 s against 6.81 s) and lost at n = 44 before the halves (the first 30 steps, 65.2 s
-/// against 55.1 s).
+/// in the quiet runs). Only with a factored block: without one (the standard mass) it gained
+/// nothing at n = 16 (6.84 s against 6.81 s) and lost at n = 44 before the halves (the first 30
+/// steps, 65.2 s against 55.1 s).
 const GAUSS_SEIDEL_FROM: usize = 12 << 20;
 
 /// The name of the factored block of the matrix `name` in messages.

@@ -236,28 +236,13 @@ impl BlockSym<f32> {
     /// first node of the piece with the most blocks): the levels below a middle one, the levels
     /// above it, and the middle level as their separator (a level only couples to its
     /// neighbours), the middle one where the two halves hold about as many blocks (the other
-    /// pieces, out of reach, go to the second half); each part in the stored order. At hertz3d n = 44, the
-    /// separator is 3 % of the nodes (the nodes from the stored order's midpoint on that couple
-    /// below it were 5 %, spread over the second half, and cost 10 % more iterations).
+    /// pieces, out of reach, go to the second half); each part in the stored order. At hertz3d
+    /// n = 44, the separator is 3 % of the nodes (the nodes from the stored order's midpoint on
+    /// that couple below it were 5 %, spread over the second half, and cost 10 % more
+    /// iterations).
     pub fn halves(&self) -> Halves {
         let nodes = self.ptr.len() - 1;
         let rows = self.rows();
-        let levels = |start: usize| {
-            let mut level = vec![usize::MAX; nodes];
-            let mut queue = std::collections::VecDeque::from([start]);
-            level[start] = 0;
-            let mut last = start;
-            while let Some(j) = queue.pop_front() {
-                last = j;
-                for (i, _, _) in self.neighbours(&rows, j) {
-                    if level[i] == usize::MAX {
-                        level[i] = level[j] + 1;
-                        queue.push_back(i);
-                    }
-                }
-            }
-            (level, last)
-        };
         if nodes == 0 {
             return Halves {
                 order: Vec::new(),
@@ -265,28 +250,23 @@ impl BlockSym<f32> {
             };
         }
         // The first node of the piece (body) with the most blocks, the first such piece.
-        let (mut seen, mut heaviest) = (vec![false; nodes], (0, 0));
+        let mut level = vec![usize::MAX; nodes];
+        let mut heaviest = (0, 0);
         for j in 0..nodes {
-            if seen[j] {
-                continue;
-            }
-            seen[j] = true;
-            let mut queue = std::collections::VecDeque::from([j]);
-            let mut blocks = 0;
-            while let Some(i) = queue.pop_front() {
-                blocks += self.ptr[i + 1] - self.ptr[i];
-                for (k, _, _) in self.neighbours(&rows, i) {
-                    if !seen[k] {
-                        seen[k] = true;
-                        queue.push_back(k);
-                    }
+            if level[j] == usize::MAX {
+                let mut blocks = 0;
+                self.search(&rows, j, &mut level, |i| {
+                    blocks += self.ptr[i + 1] - self.ptr[i]
+                });
+                if blocks > heaviest.0 {
+                    heaviest = (blocks, j);
                 }
             }
-            if blocks > heaviest.0 {
-                heaviest = (blocks, j);
-            }
         }
-        let (level, last) = levels(levels(heaviest.1).1);
+        level.fill(usize::MAX);
+        let far = self.search(&rows, heaviest.1, &mut level, |_| {});
+        level.fill(usize::MAX);
+        let last = self.search(&rows, far, &mut level, |_| {});
         let depth = level[last] + 1;
         // Nodes out of reach (another body) couple to none of these: the second half takes them.
         let mut work = vec![0; depth + 1];
@@ -311,6 +291,32 @@ impl BlockSym<f32> {
             sizes: [of(0).count(), of(1).count()],
             order: of(0).chain(of(1)).chain(of(2)).collect(),
         }
+    }
+
+    /// Breadth-first search from node `start` over the nodes not yet reached (`level` at
+    /// `usize::MAX`), writing their levels and passing each to `visit`; returns the last one
+    /// reached (the farthest).
+    fn search(
+        &self,
+        rows: &Rows,
+        start: usize,
+        level: &mut [usize],
+        mut visit: impl FnMut(usize),
+    ) -> usize {
+        let mut queue = std::collections::VecDeque::from([start]);
+        level[start] = 0;
+        let mut last = start;
+        while let Some(j) = queue.pop_front() {
+            visit(j);
+            last = j;
+            for (i, _, _) in self.neighbours(rows, j) {
+                if level[i] == usize::MAX {
+                    level[i] = level[j] + 1;
+                    queue.push_back(i);
+                }
+            }
+        }
+        last
     }
 
     /// The blocks above the diagonal by rows.
