@@ -483,12 +483,6 @@ impl Pcg {
             factored[i] = true;
         }
         let jacobi = NodalJacobi::new(a, op.node_size(), &factored, name)?;
-        let gauss_seidel = match &op {
-            SymOperator::Block(blocks) if sweeps(blocks) => {
-                GaussSeidel::new(a, blocks, (&factored, &dofs), &jacobi.inv)
-            }
-            _ => None,
-        };
         let block = if dofs.is_empty() {
             None
         } else {
@@ -502,6 +496,15 @@ impl Pcg {
                 positions: Vec::new(),
                 fixed: Vec::new(),
             })
+        };
+        let gauss_seidel = match &op {
+            SymOperator::Block(blocks) if sweeps(blocks) => {
+                let (dofs, entries) = block
+                    .as_ref()
+                    .map_or((&[][..], 0), |bl| (&bl.dofs[..], bl.factor.entries()));
+                GaussSeidel::new(a, blocks, (&factored, dofs, entries), &jacobi.inv)
+            }
+            _ => None,
         };
         Ok(Self {
             op,

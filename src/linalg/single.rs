@@ -54,6 +54,11 @@ impl SingleFactor {
         Ok(())
     }
 
+    /// The entries of the factor.
+    pub fn entries(&self) -> usize {
+        self.values.len()
+    }
+
     /// `x ← (L̃ L̃ᵀ)⁻¹ x` in single precision.
     pub fn solve_in_place(&mut self, x: &mut [f32]) {
         assert_eq!(x.len(), self.n, "right-hand side of the wrong length");

@@ -232,15 +232,17 @@ pub struct Halves {
 type Rows = (Vec<usize>, Vec<(usize, usize)>);
 
 impl BlockSym<f32> {
-    /// The halves by breadth-first levels from a peripheral node (the last one reached from the
-    /// first node of the piece with the most blocks): the levels below a middle one, the levels
-    /// above it, and the middle level as their separator (a level only couples to its
-    /// neighbours), the middle one where the two halves hold about as many blocks (the other
-    /// pieces, out of reach, go to the second half); each part in the stored order. At hertz3d
-    /// n = 44, the separator is 3 % of the nodes (the nodes from the stored order's midpoint on
-    /// that couple below it were 5 %, spread over the second half, and cost 10 % more
-    /// iterations).
-    pub fn halves(&self) -> Halves {
+    /// The halves by breadth-first levels: the levels below a middle one, the levels above it,
+    /// and the middle level as their separator (a level only couples to its neighbours), each
+    /// part in the stored order. The levels start from the `near` nodes, which the first half
+    /// then holds, the middle one where the first half's blocks and `extra` (the work of a solve
+    /// beside its sweep, in stored blocks) make about the second half's; without `near`, from a
+    /// peripheral node (the last one reached from the first node of the piece with the most
+    /// blocks), the middle one where the two halves hold about as many blocks. The other
+    /// pieces, out of reach, go to the second half. At hertz3d n = 44, the separator is 3 % of
+    /// the nodes (the nodes from the stored order's midpoint on that couple below it were 5 %,
+    /// spread over the second half, and cost 10 % more iterations).
+    pub fn halves(&self, near: &[usize], extra: usize) -> Halves {
         let nodes = self.ptr.len() - 1;
         let rows = self.rows();
         if nodes == 0 {
@@ -249,24 +251,28 @@ impl BlockSym<f32> {
                 sizes: [0, 0],
             };
         }
-        // The first node of the piece (body) with the most blocks, the first such piece.
         let mut level = vec![usize::MAX; nodes];
-        let mut heaviest = (0, 0);
-        for j in 0..nodes {
-            if level[j] == usize::MAX {
-                let mut blocks = 0;
-                self.search(&rows, j, &mut level, |i| {
-                    blocks += self.ptr[i + 1] - self.ptr[i]
-                });
-                if blocks > heaviest.0 {
-                    heaviest = (blocks, j);
+        let last = if near.is_empty() {
+            // The first node of the piece (body) with the most blocks, the first such piece.
+            let mut heaviest = (0, 0);
+            for j in 0..nodes {
+                if level[j] == usize::MAX {
+                    let mut blocks = 0;
+                    self.search(&rows, &[j], &mut level, |i| {
+                        blocks += self.ptr[i + 1] - self.ptr[i]
+                    });
+                    if blocks > heaviest.0 {
+                        heaviest = (blocks, j);
+                    }
                 }
             }
-        }
-        level.fill(usize::MAX);
-        let far = self.search(&rows, heaviest.1, &mut level, |_| {});
-        level.fill(usize::MAX);
-        let last = self.search(&rows, far, &mut level, |_| {});
+            level.fill(usize::MAX);
+            let far = self.search(&rows, &[heaviest.1], &mut level, |_| {});
+            level.fill(usize::MAX);
+            self.search(&rows, &[far], &mut level, |_| {})
+        } else {
+            self.search(&rows, near, &mut level, |_| {})
+        };
         let depth = level[last] + 1;
         // Nodes out of reach (another body) couple to none of these: the second half takes them.
         let mut work = vec![0; depth + 1];
@@ -278,8 +284,10 @@ impl BlockSym<f32> {
             .scan(0, |sum, &w| Some(std::mem::replace(sum, *sum + w)))
             .collect();
         let total: usize = work.iter().sum();
-        let middle = (0..depth)
-            .min_by_key(|&l| below[l].abs_diff(total - below[l] - work[l]))
+        // The near nodes, at level 0, stay in the first half.
+        let lowest = usize::from(!near.is_empty());
+        let middle = (lowest..depth.max(lowest + 1))
+            .min_by_key(|&l| (below[l] + extra).abs_diff(total - below[l] - work[l]))
             .expect("a level");
         let part = |j: usize| match level[j] {
             l if l < middle => 0,
@@ -293,19 +301,24 @@ impl BlockSym<f32> {
         }
     }
 
-    /// Breadth-first search from node `start` over the nodes not yet reached (`level` at
-    /// `usize::MAX`), writing their levels and passing each to `visit`; returns the last one
-    /// reached (the farthest).
+    /// Breadth-first search from the nodes `start` (level 0) over the nodes not yet reached
+    /// (`level` at `usize::MAX`), writing their levels and passing each to `visit`; returns the
+    /// last one reached (the farthest).
     fn search(
         &self,
         rows: &Rows,
-        start: usize,
+        start: &[usize],
         level: &mut [usize],
         mut visit: impl FnMut(usize),
     ) -> usize {
-        let mut queue = std::collections::VecDeque::from([start]);
-        level[start] = 0;
-        let mut last = start;
+        let mut queue = std::collections::VecDeque::new();
+        for &j in start {
+            if level[j] == usize::MAX {
+                level[j] = 0;
+                queue.push_back(j);
+            }
+        }
+        let mut last = start[0];
         while let Some(j) = queue.pop_front() {
             visit(j);
             last = j;
@@ -464,6 +477,55 @@ mod tests {
         assert!(check(&y, &upper) < 1e-12 && check(&z, &upper) < 1e-12);
     }
 
+    /// The halves hold `order[..first]` and `order[first..first + second]`: every node once, and
+    /// no block couples them.
+    fn assert_halves_do_not_couple(a: &BlockSym<f32>, halves: &Halves) -> BlockSym<f32> {
+        let nodes = a.ptr.len() - 1;
+        let mut sorted = halves.order.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..nodes).collect::<Vec<_>>());
+        let [first, second] = halves.sizes;
+        let p = a.permuted(&halves.order);
+        for j in 0..nodes {
+            for k in p.ptr[j]..p.ptr[j + 1] {
+                let i = p.idx[k] as usize;
+                assert!(i <= j);
+                if j < first + second {
+                    assert_eq!(i < first, j < first, "block ({i}, {j}) couples the halves");
+                }
+            }
+        }
+        p
+    }
+
+    /// From `near` nodes (a factored block's), on a ring of 80 nodes: the first half holds them,
+    /// the separator is one level (the nodes 6 and 8 steps away on each side: at most 12 nodes
+    /// of at most 3 stored blocks), and the first half's blocks and the `extra` make the
+    /// second's to within a level's blocks.
+    #[test]
+    fn the_halves_from_near_nodes_hold_them_in_the_first() {
+        let a = BlockSym::new(&block_matrix(80, 3))
+            .expect("blocks")
+            .rounded();
+        let blocks =
+            |nodes: &[usize]| -> usize { nodes.iter().map(|&j| a.ptr[j + 1] - a.ptr[j]).sum() };
+        for extra in [0, 60] {
+            let halves = a.halves(&[10, 11], extra);
+            assert_halves_do_not_couple(&a, &halves);
+            let [first, second] = halves.sizes;
+            let (near, far) = (&halves.order[..first], &halves.order[first..first + second]);
+            assert!(near.contains(&10) && near.contains(&11), "{halves:?}");
+            assert!(80 - first - second <= 12, "{halves:?}");
+            let diff = (blocks(near) + extra).abs_diff(blocks(far));
+            assert!(
+                diff <= 36,
+                "{extra}: {} + {extra} against {}",
+                blocks(near),
+                blocks(far)
+            );
+        }
+    }
+
     /// On a ring of node couplings (to the third neighbour) and on two rings (two bodies, the
     /// smaller first), the halves do not couple and hold about as many nodes (the larger ring is
     /// split, the smaller one, out of reach, goes to the second half), the separator is a level
@@ -479,25 +541,13 @@ mod tests {
         }
         for a in [block_matrix(80, 3), t.build().unwrap()] {
             let a = BlockSym::new(&a).expect("blocks").rounded();
-            let halves = a.halves();
-            let mut sorted = halves.order.clone();
-            sorted.sort_unstable();
-            assert_eq!(sorted, (0..80).collect::<Vec<_>>());
+            let halves = a.halves(&[], 0);
+            let p = assert_halves_do_not_couple(&a, &halves);
             let [first, second] = halves.sizes;
             assert!(
                 first >= 30 && second >= 30 && first + second >= 74,
                 "{halves:?}"
             );
-            let p = a.permuted(&halves.order);
-            for j in 0..80 {
-                for k in p.ptr[j]..p.ptr[j + 1] {
-                    let i = p.idx[k] as usize;
-                    assert!(i <= j);
-                    if j < first + second {
-                        assert_eq!(i < first, j < first, "block ({i}, {j}) couples the halves");
-                    }
-                }
-            }
             let x: Vec<f64> = (0..240).map(|i| (i as f64 * 0.37).sin()).collect();
             let (mut y, mut yp) = (vec![0.0; 240], vec![0.0; 240]);
             a.mul(&mut y, &x);

@@ -14,11 +14,14 @@
 //! one backward and one forward sweep, each one pass over the stored blocks, in place of the
 //! product. Each node needs its predecessors; the nodes are renumbered into two halves that do
 //! not couple and their separator, numbered last ([`BlockSym::halves`]): the halves sweep side
-//! by side on two threads, the separator after them (forward) or before them (backward). This
-//! is symmetric Gauss–Seidel in that order on any number of threads. The iterate in the
-//! original variables moves by `α t`. The residual `r = P r̂` is not formed: CG stops on `r̂ᵀ D r̂ = rᵀ M⁻¹ r` scaled
-//! by its ratio to `‖r‖²` at the start, and the caller checks the exact residual afterwards, as
-//! for the single-precision product. From the run's own guesses (hertz3d, residual 1e-6 to 5e-5
+//! by side on two threads, the separator after them (forward) or before them (backward). The
+//! halves grow from the nodes of S and of its couplings, which the first half holds: S's
+//! solves run on its thread, before its sweep (forward) or after it (backward), beside the
+//! second half's, which holds more blocks to match. This is symmetric Gauss–Seidel in that
+//! order on any number of threads. The iterate in the original variables moves by `α t`. The
+//! residual `r = P r̂` is not formed: CG stops on `r̂ᵀ D r̂ = rᵀ M⁻¹ r` scaled by its ratio to
+//! `‖r‖²` at the start, and the caller checks the exact residual afterwards, as for the
+//! single-precision product. From the run's own guesses (hertz3d, residual 1e-6 to 5e-5
 //! of ‖b‖ down to 1e-10) it takes 0.35 to 0.39 times nodal Jacobi's iterations at n = 16 and 24.
 
 use super::{packed_mul, FactoredBlock, Pcg, PASS_CHUNK};
@@ -62,19 +65,37 @@ pub(super) struct GaussSeidel {
 
 impl GaussSeidel {
     /// The sweeps of `a`, stored by 3 × 3 upper `blocks` (None for other blocks), with the
-    /// factored block on the dofs `factored` (in the block's order `dofs`) and the nodal
-    /// Jacobi inverses `inv` elsewhere.
+    /// factored block on the dofs `factored` (in the block's order `dofs`; its factor has
+    /// `entries`) and the nodal Jacobi inverses `inv` elsewhere. The first half holds the nodes
+    /// of the block's dofs and of its couplings, whose solves run beside the second half's sweep
+    /// ([`extra`]).
     pub(super) fn new(
         a: &SpMat,
         blocks: &BlockSym<f32>,
-        (factored, dofs): (&[bool], &[usize]),
+        (factored, dofs, entries): (&[bool], &[usize], usize),
         inv: &[f32],
     ) -> Option<Self> {
         if !blocks.is_upper() {
             return None;
         }
         let n = a.nrows();
-        let halves = blocks.halves();
+        let a = a.as_ref();
+        let coupling: Vec<Vec<(usize, f64)>> = dofs
+            .iter()
+            .map(|&j| {
+                let rows = a.row_idx_of_col_raw(j).iter().copied();
+                let entries = rows.zip(a.val_of_col(j).iter().copied());
+                entries.filter(|&(i, _)| !factored[i]).collect()
+            })
+            .collect();
+        let mut near = vec![false; n / 3];
+        let coupled = coupling.iter().flatten().map(|&(i, _)| i);
+        for i in dofs.iter().copied().chain(coupled) {
+            near[i / 3] = true;
+        }
+        let near: Vec<usize> = (0..n / 3).filter(|&j| near[j]).collect();
+        let couplings = coupling.iter().map(Vec::len).sum::<usize>();
+        let halves = blocks.halves(&near, extra(entries, couplings));
         let mut position = vec![0; n / 3];
         for (p, &j) in halves.order.iter().enumerate() {
             position[j] = p;
@@ -90,18 +111,13 @@ impl GaussSeidel {
                 }
             }
         }
-        let a = a.as_ref();
-        let coupling = dofs
-            .iter()
-            .map(|&j| {
-                let rows = a.row_idx_of_col_raw(j).iter().copied();
-                let entries = rows.zip(a.val_of_col(j).iter().copied());
-                entries
-                    .filter(|&(i, _)| !factored[i])
-                    .map(|(i, v)| (renumbered(i), v))
-                    .collect()
-            })
+        let coupling: Vec<Vec<(usize, f64)>> = (coupling.into_iter())
+            .map(|col| col.into_iter().map(|(i, v)| (renumbered(i), v)).collect())
             .collect();
+        let dofs: Vec<usize> = dofs.iter().map(|&i| renumbered(i)).collect();
+        let first = 3 * halves.sizes[0];
+        let inside = |i: &usize| *i < first;
+        assert!(dofs.iter().all(inside) && coupling.iter().flatten().all(|(i, _)| inside(i)));
         Some(Self {
             blocks: blocks.permuted(&halves.order),
             inv: (halves.order.iter())
@@ -110,16 +126,26 @@ impl GaussSeidel {
             order: halves.order,
             sizes: halves.sizes,
             diag,
-            dofs: dofs.iter().map(|&i| renumbered(i)).collect(),
+            ys: vec![0.0; dofs.len()],
+            dofs,
             coupling,
             x: vec![0.0; n],
             free: vec![false; n],
             s: vec![0.0; n / 3 * LANES],
             t: vec![0.0; n],
             u: vec![0.0; n],
-            ys: vec![0.0; dofs.len()],
         })
     }
+}
+
+/// The work of the factored block's part of a sweep in stored blocks of a half, for the
+/// balance of the halves: its factor's `entries` and a quarter of its `couplings` to the
+/// nodes. Measured at hertz3d n = 44 (0.70M entries, 0.51M couplings; the first 30 steps), the
+/// backward sweep's first half (its nodes, then the block) against the second: with the
+/// entries and all the couplings (1.21M) 7.2 + 3.7 ms against 12.4 ms; with the entries alone
+/// 7.9 + 3.4 against 10.4; with this rule (0.83M) 7.1 + 3.5 against 10.9.
+fn extra(entries: usize, couplings: usize) -> usize {
+    entries + couplings / 4
 }
 
 /// `to = Π from` by nodes of three entries: `to_p = from_{order(p)}`.
@@ -175,17 +201,55 @@ impl FactoredBlock {
             x[i] = if free[i] { f64::from(w) } else { 0.0 };
         }
     }
+
+    /// The block's part of the forward sweep on `x` (the block's dofs and their couplings
+    /// inside): `x_S ← D̃_S⁻¹ x_S`, taken out of x and returned (x_S = 0), and `x_N −= L_NS x_S`.
+    fn forward(&mut self, (dofs, coupling): Part<'_>, x: &mut [f64], free: &[bool]) -> Vec<f64> {
+        let rhs: Vec<f64> = dofs.iter().map(|&i| x[i]).collect();
+        self.solve_into(dofs, x, free, |k| rhs[k]);
+        let xs: Vec<f64> = dofs.iter().map(|&i| std::mem::take(&mut x[i])).collect();
+        for (col, &v) in coupling.iter().zip(&xs) {
+            for &(i, a) in col {
+                x[i] -= a * v;
+            }
+        }
+        xs
+    }
+
+    /// The block's part of the backward sweep, after the nodes' t: `s_S = p_S − L_NSᵀ t_N`,
+    /// `t_S = D̃_S⁻¹ s_S` and `u_S = p_S − 2 s_S + A_SS t_S` (`ys`: room for `A_SS t_S`).
+    fn backward(
+        &mut self,
+        (dofs, coupling): Part<'_>,
+        p: &[f64],
+        free: &[bool],
+        (t, u, ys): (&mut [f64], &mut [f64], &mut [f64]),
+    ) {
+        let s: Vec<f64> = (dofs.iter().zip(coupling))
+            .map(|(&j, col)| p[j] - col.iter().map(|&(i, a)| a * t[i]).sum::<f64>())
+            .collect();
+        self.solve_into(dofs, t, free, |k| s[k]);
+        self.mul_free(dofs, t, free, ys);
+        for ((&j, &dt), s) in dofs.iter().zip(&*ys).zip(s) {
+            u[j] = if free[j] { p[j] - 2.0 * s + dt } else { 0.0 };
+        }
+    }
 }
+
+/// The factored block's dofs (renumbered) and, for each, its couplings to the nodes `(i, A_ij)`.
+type Part<'a> = (&'a [usize], &'a [Vec<(usize, f64)>]);
 
 impl GaussSeidel {
     /// The forward sweep over the nodes with their Jacobi inverses, `x ← (D̃ + L)⁻¹ x` (the
-    /// factored block's entries of x at 0): the halves side by side, then the separator.
-    /// Returns the sum of `visit(J, y_J)` over the nodes (the halves', then the separator's).
+    /// factored block's entries of x at 0): the halves side by side, `block` on the first
+    /// half's entries of x before its sweep, then the separator. Returns the sum of
+    /// `visit(J, y_J)` over the nodes (the halves', then the separator's).
     fn forward_nodes(
         &self,
         x: &mut [f64],
         free: &[bool],
         visit: impl Fn(usize, [f64; 3]) -> f64 + Sync,
+        block: impl FnOnce(&mut [f64]) + Send,
     ) -> f64 {
         let [a, b] = self.sizes;
         let sweep = |held: (usize, &mut [f64]), nodes: Range<usize>| {
@@ -204,24 +268,31 @@ impl GaussSeidel {
         };
         let (first, second) = x.split_at_mut(3 * a);
         let (sa, sb) = rayon::join(
-            || sweep((0, first), 0..a),
+            || {
+                block(first);
+                sweep((0, first), 0..a)
+            },
             || sweep((a, &mut second[..3 * b]), a..a + b),
         );
         let nodes = x.len() / 3;
         (sa + sb) + sweep((0, x), a + b..nodes)
     }
 
-    /// The backward sweep over the nodes, `t = (D̃ + Lᵀ)⁻¹ s` (s = p on entry) and
-    /// `u = p − 2 s + D t` on them: the separator, then the halves side by side.
-    fn backward_nodes(&mut self, p: &[f64], free: &[bool]) {
+    /// `t = P⁻ᵀ p` and `u = p − 2 s + D t` (s = D̃ t): the backward sweep over the nodes (s = p
+    /// on entry), the separator, then the halves side by side, and the factored `block` after
+    /// the first half's.
+    fn backward(&mut self, p: &[f64], free: &[bool], block: Option<&mut FactoredBlock>) {
         let [a, b] = self.sizes;
         let Self {
             blocks,
             inv,
             diag,
+            dofs,
+            coupling,
             s,
             t,
             u,
+            ys,
             ..
         } = self;
         let (blocks, inv, diag) = (&*blocks, &*inv, &*diag);
@@ -253,7 +324,12 @@ impl GaussSeidel {
         let (t, tb) = t.split_at_mut(3 * a);
         let (u, ub) = u.split_at_mut(3 * a);
         rayon::join(
-            || sweep((0, s, t, u), 0..a),
+            || {
+                sweep((0, &mut *s, &mut *t, &mut *u), 0..a);
+                if let Some(bl) = block {
+                    bl.backward((dofs, coupling), p, free, (t, u, ys));
+                }
+            },
             || sweep((a, sb, tb, ub), a..a + b),
         );
     }
@@ -261,8 +337,9 @@ impl GaussSeidel {
 
 impl Pcg {
     /// `x ← P⁻¹ x`: the factored block first, its couplings moved to the right-hand side of the
-    /// nodes, then the forward sweep over the nodes (with the block's entries of x at 0, so that
-    /// the sweep does not count them twice). Returns the sum of `visit(J, y_J)` over the nodes.
+    /// nodes, beside the second half's sweep, then the forward sweep over the nodes (with the
+    /// block's entries of x at 0, so that the sweep does not count them twice). Returns the sum
+    /// of `visit(J, y_J)` over the nodes.
     fn forward(
         &mut self,
         x: &mut [f64],
@@ -271,41 +348,22 @@ impl Pcg {
     ) -> f64 {
         let gs = self.gauss_seidel.as_ref().expect("sweeps");
         let mut xs = Vec::new();
-        if let Some(bl) = self.block.as_mut() {
-            let rhs: Vec<f64> = gs.dofs.iter().map(|&i| x[i]).collect();
-            bl.solve_into(&gs.dofs, x, free, |k| rhs[k]);
-            xs = gs.dofs.iter().map(|&i| std::mem::take(&mut x[i])).collect();
-            for (col, &v) in gs.coupling.iter().zip(&xs) {
-                for &(i, a) in col {
-                    x[i] -= a * v;
-                }
+        let block = self.block.as_mut();
+        let sum = gs.forward_nodes(x, free, visit, |x| {
+            if let Some(bl) = block {
+                xs = bl.forward((&gs.dofs, &gs.coupling), x, free);
             }
-        }
-        let sum = gs.forward_nodes(x, free, visit);
+        });
         for (&i, v) in gs.dofs.iter().zip(xs) {
             x[i] = v;
         }
         sum
     }
 
-    /// `t = P⁻ᵀ p` and `u = p − 2 s + D t` (s = D̃ t), the backward sweep over the nodes, then
-    /// the factored block, whose right-hand side gathers its couplings to the nodes' t.
+    /// `t = P⁻ᵀ p` and `u = p − 2 s + D t` ([`GaussSeidel::backward`]).
     fn backward(&mut self, p: &[f64], free: &[bool]) {
         let gs = self.gauss_seidel.as_mut().expect("sweeps");
-        gs.backward_nodes(p, free);
-        let Some(bl) = self.block.as_mut() else {
-            return;
-        };
-        // s_S = p_S − L_SNᵀ t_N, t_S = D̃_S⁻¹ s_S, u_S = p_S − 2 s_S + A_SS t_S.
-        let (t, u) = (&mut gs.t, &mut gs.u);
-        let s: Vec<f64> = (gs.dofs.iter().zip(&gs.coupling))
-            .map(|(&j, col)| p[j] - col.iter().map(|&(i, a)| a * t[i]).sum::<f64>())
-            .collect();
-        bl.solve_into(&gs.dofs, t, free, |k| s[k]);
-        bl.mul_free(&gs.dofs, t, free, &mut gs.ys);
-        for ((&j, &dt), s) in gs.dofs.iter().zip(&gs.ys).zip(s) {
-            u[j] = if free[j] { p[j] - 2.0 * s + dt } else { 0.0 };
-        }
+        gs.backward(p, free, self.block.as_mut());
     }
 
     /// `x += α t`, `r −= α (t + u)` and `z = D r` (the nodal blocks, and A_SS on the factored
@@ -467,7 +525,7 @@ mod tests {
         let blocks = BlockSym::new(&a).expect("blocks").rounded();
         let none = vec![false; n];
         let jacobi = NodalJacobi::new(&a, 3, &none, "A").unwrap();
-        let mut gs = GaussSeidel::new(&a, &blocks, (&none, &[]), &jacobi.inv).unwrap();
+        let mut gs = GaussSeidel::new(&a, &blocks, (&none, &[], 0), &jacobi.inv).unwrap();
         let [first, second] = gs.sizes;
         assert!(first > 100 && second > 100, "{:?}", gs.sizes);
         let mut free = vec![true; n];
@@ -477,7 +535,7 @@ mod tests {
         };
         let x: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
         let (mut by_halves, mut whole) = (x.clone(), x.clone());
-        gs.forward_nodes(&mut by_halves, &free, |_, _| 0.0);
+        gs.forward_nodes(&mut by_halves, &free, |_, _| 0.0, |_| {});
         gs.blocks.forward_sweep((0, &mut whole), 0..n / 3, solve);
         assert!(by_halves
             .iter()
@@ -488,7 +546,7 @@ mod tests {
         gs.blocks
             .backward_sweep((0, &mut s, &mut t), 0..n / 3, solve);
         gs.s = padded;
-        gs.backward_nodes(&x, &free);
+        gs.backward(&x, &free, None);
         assert!(gs.t.iter().zip(&t).all(|(p, q)| p.to_bits() == q.to_bits()));
     }
 }
