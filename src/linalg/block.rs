@@ -53,12 +53,22 @@ pub trait BlockValue: Copy + Send + Sync + std::fmt::Debug {
         let _ = values;
         None
     }
+
+    /// The values as double-precision numbers, if they are (the vector kernel's input).
+    fn doubles(values: &[Self]) -> Option<&[f64]> {
+        let _ = values;
+        None
+    }
 }
 
 impl BlockValue for f64 {
     #[inline(always)]
     fn get(self) -> f64 {
         self
+    }
+
+    fn doubles(values: &[Self]) -> Option<&[f64]> {
+        Some(values)
     }
 }
 
@@ -183,6 +193,8 @@ impl BlockSym {
             }
             ptr.push(idx.len());
         }
+        // The vector kernel reads a block's last column as four values.
+        val.push(0.0);
         let cuts = cuts(&ptr);
         Self {
             b,
@@ -200,18 +212,15 @@ impl BlockSym {
     /// a product, for the fast products of CG) and the rounding errors kept apart in single
     /// precision, for [`BlockSym::mul_exact`]: the same memory as the double-precision values.
     ///
-    /// Both are followed by one zero: the vector kernel reads a block's last column as four
-    /// values.
+    /// Both keep the zero that follows the values ([`BlockSym::new`]).
     pub fn rounded(self) -> BlockSym<f32> {
-        let mut val: Vec<f32> = self.val.iter().map(|&v| v as f32).collect();
-        let mut rest: Vec<f32> = self
+        let val: Vec<f32> = self.val.iter().map(|&v| v as f32).collect();
+        let rest: Vec<f32> = self
             .val
             .iter()
             .zip(&val)
             .map(|(&v, &h)| (v - f64::from(h)) as f32)
             .collect();
-        val.push(0.0);
-        rest.push(0.0);
         BlockSym {
             b: self.b,
             upper: self.upper,
@@ -369,23 +378,24 @@ impl<T: BlockValue> BlockSym<T> {
     /// same result).
     fn upper_part(&self, p: usize, x: &[f64], z: &mut [f64], values: Values) {
         #[cfg(target_arch = "x86_64")]
-        if let Some(val) = T::singles(&self.val) {
-            if std::arch::is_x86_feature_detected!("avx2") {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            if let Some(val) = T::singles(&self.val) {
                 let rest = (values == Values::Exact).then_some(&self.rest[..]);
                 // SAFETY: the processor supports AVX2, checked on the line above.
                 return unsafe { self.upper_part_avx2(p, x, z, (val, rest)) };
+            }
+            if let Some(val) = T::doubles(&self.val) {
+                // SAFETY: as above.
+                return unsafe { self.upper_part_avx2_doubles(p, x, z, val) };
             }
         }
         self.upper_part_any(p, x, z, |k| self.value(k, values));
     }
 
     /// [`BlockSym::upper_part_any`] for single-precision values (`val`, with the rounding errors
-    /// `rest` added for an exact product) in AVX2 vectors of four doubles: a block's column is
-    /// one 4-value load converted to double, whose fourth lane (the next column's first value)
-    /// meets the zero of `x_I`'s fourth lane in `A_IJᵀ x_I` and lands in `z_I`'s pad in
-    /// `A_IJ x_J`; `z_I` is one load and one store; the values are prefetched [`PREFETCH`]
-    /// ahead. The same operations in the same order as [`BlockSym::upper_part_any`] (no fused
-    /// multiply–add; the fourth lanes of the sums stay +0 for finite values): the same result.
+    /// `rest` added for an exact product) in AVX2 vectors of four doubles
+    /// ([`BlockSym::upper_part_vectors`]): a block's column is one 4-value load converted to
+    /// double.
     ///
     /// # Safety
     /// The processor must support AVX2.
@@ -399,14 +409,8 @@ impl<T: BlockValue> BlockSym<T> {
         (val, rest): (&[f32], Option<&[f32]>),
     ) {
         use std::arch::x86_64::*;
-        const B: usize = 3;
-        let nodes = x.len() / B;
-        // The bounds every unchecked access below relies on: a block's last column reads one
-        // value past it (the pad of `rounded`), `x_I` four entries unless I is the last node,
-        // `z_I` four (I < nodes: the block rows of a matrix of order 3 nodes, `with_block`).
-        assert!(val.len() > B * B * self.idx.len() && rest.is_none_or(|r| r.len() == val.len()));
-        assert!(z.len() == nodes * LANES && self.ptr.len() == nodes + 1);
-        debug_assert!(self.idx.iter().all(|&i| (i as usize) < nodes));
+        // A block's last column reads one value past it (the pad of `with_block`).
+        assert!(val.len() > 9 * self.idx.len() && rest.is_none_or(|r| r.len() == val.len()));
         let column = |o: usize| {
             // SAFETY: o + 3 < val.len() (the assertion above).
             let v = unsafe { _mm256_cvtps_pd(_mm_loadu_ps(val.as_ptr().add(o))) };
@@ -418,16 +422,73 @@ impl<T: BlockValue> BlockSym<T> {
                 },
             }
         };
+        let prefetch = |o: usize| {
+            _mm_prefetch::<_MM_HINT_T0>(val.as_ptr().wrapping_add(o + PREFETCH).cast());
+            if let Some(r) = rest {
+                _mm_prefetch::<_MM_HINT_T0>(r.as_ptr().wrapping_add(o + PREFETCH).cast());
+            }
+        };
+        // SAFETY: the processor supports AVX2 (this function's contract).
+        unsafe { self.upper_part_vectors(p, x, z, (column, prefetch)) }
+    }
+
+    /// [`BlockSym::upper_part_any`] for double-precision values in AVX2 vectors
+    /// ([`BlockSym::upper_part_vectors`]): a block's column is one 4-value load (the energies'
+    /// forms, on the sampling thread: hertz3d n = 44, M's and K's 2 × 44M values, 140 ms a
+    /// sample by `upper_part_any`).
+    ///
+    /// # Safety
+    /// The processor must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn upper_part_avx2_doubles(&self, p: usize, x: &[f64], z: &mut [f64], val: &[f64]) {
+        use std::arch::x86_64::*;
+        // A block's last column reads one value past it (the pad of `with_block`).
+        assert!(val.len() > 9 * self.idx.len());
+        // SAFETY: o + 3 < val.len() (the assertion above).
+        let column = |o: usize| unsafe { _mm256_loadu_pd(val.as_ptr().add(o)) };
+        let prefetch = |o: usize| {
+            _mm_prefetch::<_MM_HINT_T0>(val.as_ptr().wrapping_add(o + PREFETCH).cast());
+        };
+        // SAFETY: the processor supports AVX2 (this function's contract).
+        unsafe { self.upper_part_vectors(p, x, z, (column, prefetch)) }
+    }
+
+    /// The body of the vector kernels: `column(o)` is the block column at value o in four lanes,
+    /// whose fourth lane (the next column's first value) meets the zero of `x_I`'s fourth lane
+    /// in `A_IJᵀ x_I` and lands in `z_I`'s pad in `A_IJ x_J`; `z_I` is one load and one store;
+    /// `prefetch(o)` asks for the values [`PREFETCH`] ahead. The same operations in the same
+    /// order as [`BlockSym::upper_part_any`] (no fused multiply–add; the fourth lanes of the
+    /// sums stay +0 for finite values): the same result.
+    ///
+    /// # Safety
+    /// The processor must support AVX2, and `column(o)` read inside the values for every block
+    /// o = 9 k + 3 c.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn upper_part_vectors(
+        &self,
+        p: usize,
+        x: &[f64],
+        z: &mut [f64],
+        (column, prefetch): (impl Fn(usize) -> std::arch::x86_64::__m256d, impl Fn(usize)),
+    ) {
+        use std::arch::x86_64::*;
+        const B: usize = 3;
+        let nodes = x.len() / B;
+        // The bounds every unchecked access below relies on: `x_I` four entries unless I is the
+        // last node, `z_I` four (I < nodes: the block rows of a matrix of order 3 nodes,
+        // `with_block`).
+        assert!(z.len() == nodes * LANES && self.ptr.len() == nodes + 1);
+        debug_assert!(self.idx.iter().all(|&i| (i as usize) < nodes));
         let (xp, zp, zero) = (x.as_ptr(), z.as_mut_ptr(), _mm256_setzero_pd());
         for jb in self.cuts[p]..self.cuts[p + 1] {
             let xj = [0, 1, 2].map(|c| _mm256_broadcast_sd(&x[B * jb + c]));
             let mut acc = [zero; B];
             for k in self.ptr[jb]..self.ptr[jb + 1] {
                 let (ib, o) = (self.idx[k] as usize, k * B * B);
-                _mm_prefetch::<_MM_HINT_T0>(val.as_ptr().wrapping_add(o + PREFETCH).cast());
-                if let Some(r) = rest {
-                    _mm_prefetch::<_MM_HINT_T0>(r.as_ptr().wrapping_add(o + PREFETCH).cast());
-                }
+                prefetch(o);
                 let cols = [column(o), column(o + B), column(o + 2 * B)];
                 let xi = if ib + 1 < nodes {
                     // SAFETY: B ib + 3 < x.len() when I is not the last node.
@@ -536,26 +597,31 @@ mod tests {
         assert!(BlockSym::new(&laplacian(9)).is_none(), "scalar pattern");
     }
 
-    /// The vector kernel of single-precision 3 × 3 blocks gives the bits of the kernel for any
-    /// instruction set, with the stored values and with their rounding errors added (29 nodes:
-    /// the last one's x is read without its neighbour's).
+    /// The vector kernels of 3 × 3 blocks give the bits of the kernel for any instruction set:
+    /// single precision with the stored values and with their rounding errors added, and double
+    /// precision (29 nodes: the last one's x is read without its neighbour's).
     #[test]
-    fn the_vector_kernel_gives_the_same_bits() {
-        let a = BlockSym::new(&block_matrix(29, 3))
-            .expect("block pattern")
-            .rounded();
+    fn the_vector_kernels_give_the_same_bits() {
+        let a = BlockSym::new(&block_matrix(29, 3)).expect("block pattern");
         let x: Vec<f64> = (0..a.ptr.len() * 3 - 3)
             .map(|i| (i as f64 * 0.37).sin())
             .collect();
+        same_bits(&a, &x, Values::Stored);
+        let a = a.rounded();
         for values in [Values::Stored, Values::Exact] {
-            for p in 0..PARTS {
-                let mut z = vec![vec![0.0; x.len() / 3 * LANES]; 2];
-                a.upper_part(p, &x, &mut z[0], values);
-                a.upper_part_any(p, &x, &mut z[1], |k| a.value(k, values));
-                for i in 0..x.len() {
-                    let k = i / 3 * LANES + i % 3;
-                    assert_eq!(z[0][k].to_bits(), z[1][k].to_bits(), "part {p}, entry {i}");
-                }
+            same_bits(&a, &x, values);
+        }
+    }
+
+    /// `upper_part` and `upper_part_any` give the same bits on every part.
+    fn same_bits<T: BlockValue>(a: &BlockSym<T>, x: &[f64], values: Values) {
+        for p in 0..PARTS {
+            let mut z = vec![vec![0.0; x.len() / 3 * LANES]; 2];
+            a.upper_part(p, x, &mut z[0], values);
+            a.upper_part_any(p, x, &mut z[1], |k| a.value(k, values));
+            for i in 0..x.len() {
+                let k = i / 3 * LANES + i % 3;
+                assert_eq!(z[0][k].to_bits(), z[1][k].to_bits(), "part {p}, entry {i}");
             }
         }
     }
