@@ -95,8 +95,8 @@ enum Values {
 /// a node's entries are one 4-lane vector, loaded and stored whole.
 pub const LANES: usize = 4;
 
-/// How far ahead (in values: 512 single-precision values, 2 KiB, 57 blocks) the vector kernel
-/// asks for the values it will read. Without it the product of the 10⁶-dof sphere's step matrix
+/// How far ahead (in values: 512 single-precision values, 2 KiB, 57 blocks; 4 KiB of double-
+/// precision values, not tuned) the vector kernel asks for the values it will read. Without it the product of the 10⁶-dof sphere's step matrix
 /// streamed its 175 MB of values at 12 GB/s on two cores; 256, 512 and 1 024 gave 9.4, 8.9 and
 /// 9.1 ms against 12.6 ms (best of 7 × 5 products, 1 040 163 dofs).
 const PREFETCH: usize = 512;
@@ -373,7 +373,7 @@ impl<T: BlockValue> BlockSym<T> {
     }
 
     /// Part `p` of the product by 3 × 3 upper blocks, accumulated in `z`: by 4-lane vectors
-    /// where the values are single precision and the processor has AVX2, by
+    /// where the processor has AVX2 (single- or double-precision values), by
     /// [`BlockSym::upper_part_any`] otherwise (the same operations in the same order, so the
     /// same result).
     fn upper_part(&self, p: usize, x: &[f64], z: &mut [f64], values: Values) {
@@ -409,7 +409,8 @@ impl<T: BlockValue> BlockSym<T> {
         (val, rest): (&[f32], Option<&[f32]>),
     ) {
         use std::arch::x86_64::*;
-        // A block's last column reads one value past it (the pad of `with_block`).
+        // A block's last column reads one value past it (the zero after the values: `with_block`
+        // leaves it, `rounded` keeps it, `permuted` adds its own).
         assert!(val.len() > 9 * self.idx.len() && rest.is_none_or(|r| r.len() == val.len()));
         let column = |o: usize| {
             // SAFETY: o + 3 < val.len() (the assertion above).
@@ -599,25 +600,43 @@ mod tests {
 
     /// The vector kernels of 3 × 3 blocks give the bits of the kernel for any instruction set:
     /// single precision with the stored values and with their rounding errors added, and double
-    /// precision (29 nodes: the last one's x is read without its neighbour's).
+    /// precision (29 nodes: the last one's x is read without its neighbour's). On a processor
+    /// without AVX2 there is nothing to compare.
     #[test]
     fn the_vector_kernels_give_the_same_bits() {
-        let a = BlockSym::new(&block_matrix(29, 3)).expect("block pattern");
-        let x: Vec<f64> = (0..a.ptr.len() * 3 - 3)
-            .map(|i| (i as f64 * 0.37).sin())
-            .collect();
-        same_bits(&a, &x, Values::Stored);
-        let a = a.rounded();
-        for values in [Values::Stored, Values::Exact] {
-            same_bits(&a, &x, values);
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let a = BlockSym::new(&block_matrix(29, 3)).expect("block pattern");
+            let x: Vec<f64> = (0..a.ptr.len() * 3 - 3)
+                .map(|i| (i as f64 * 0.37).sin())
+                .collect();
+            // SAFETY: the processor supports AVX2 (checked above).
+            let doubles = |p: usize, z: &mut [f64]| unsafe {
+                a.upper_part_avx2_doubles(p, &x, z, &a.val);
+            };
+            same_bits(&a, &x, Values::Stored, doubles);
+            let a = a.rounded();
+            for values in [Values::Stored, Values::Exact] {
+                let rest = (values == Values::Exact).then_some(&a.rest[..]);
+                // SAFETY: as above.
+                let singles = |p: usize, z: &mut [f64]| unsafe {
+                    a.upper_part_avx2(p, &x, z, (&a.val, rest))
+                };
+                same_bits(&a, &x, values, singles);
+            }
         }
     }
 
-    /// `upper_part` and `upper_part_any` give the same bits on every part.
-    fn same_bits<T: BlockValue>(a: &BlockSym<T>, x: &[f64], values: Values) {
+    /// `kernel(p, z)` and `upper_part_any` give the same bits on every part.
+    fn same_bits<T: BlockValue>(
+        a: &BlockSym<T>,
+        x: &[f64],
+        values: Values,
+        kernel: impl Fn(usize, &mut [f64]),
+    ) {
         for p in 0..PARTS {
             let mut z = vec![vec![0.0; x.len() / 3 * LANES]; 2];
-            a.upper_part(p, x, &mut z[0], values);
+            kernel(p, &mut z[0]);
             a.upper_part_any(p, x, &mut z[1], |k| a.value(k, values));
             for i in 0..x.len() {
                 let k = i / 3 * LANES + i % 3;

@@ -76,7 +76,7 @@ impl BlockSym<f32> {
         use std::arch::x86_64::*;
         let held = x.len() / 3;
         let val = &self.val;
-        // A block's last column reads one value past it (the pad of `rounded`).
+        // A block's last column reads one value past it (the pad of `permuted`).
         assert!(val.len() > 9 * self.idx.len());
         let zero = _mm256_setzero_pd();
         for jb in nodes {
@@ -240,8 +240,9 @@ impl BlockSym<f32> {
     /// peripheral node (the last one reached from the first node of the piece with the most
     /// blocks), the middle one where the two halves hold about as many blocks. The other
     /// pieces, out of reach, go to the second half. At hertz3d n = 44, the separator is 3 % of
-    /// the nodes (the nodes from the stored order's midpoint on that couple below it were 5 %,
-    /// spread over the second half, and cost 10 % more iterations).
+    /// the nodes from a peripheral node, 3.2 % from the factored block's nodes (the nodes from
+    /// the stored order's midpoint on that couple below it were 5 %, spread over the second
+    /// half, and cost 10 % more iterations).
     pub fn halves(&self, near: &[usize], extra: usize) -> Halves {
         let nodes = self.ptr.len() - 1;
         let rows = self.rows();
@@ -501,7 +502,8 @@ mod tests {
     /// From `near` nodes (a factored block's), on a ring of 80 nodes: the first half holds them,
     /// the separator is one level (the nodes 6 and 8 steps away on each side: at most 12 nodes
     /// of at most 3 stored blocks), and the first half's blocks and the `extra` make the
-    /// second's to within a level's blocks.
+    /// second's to within a level's blocks; with every node near, the first half holds them
+    /// all, and with an `extra` beyond all the blocks, the near nodes alone.
     #[test]
     fn the_halves_from_near_nodes_hold_them_in_the_first() {
         let a = BlockSym::new(&block_matrix(80, 3))
@@ -523,6 +525,14 @@ mod tests {
                 blocks(near),
                 blocks(far)
             );
+        }
+        let all: Vec<usize> = (0..80).collect();
+        for (near, extra) in [(&all[..], 0), (&all[..], 1 << 40), (&[5, 6][..], 1 << 40)] {
+            let halves = a.halves(near, extra);
+            assert_halves_do_not_couple(&a, &halves);
+            let [first, second] = halves.sizes;
+            assert_eq!(first, near.len(), "{near:?}, {extra}: {halves:?}");
+            assert!(second + first >= 68, "{halves:?}");
         }
     }
 

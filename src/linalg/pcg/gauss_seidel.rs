@@ -515,6 +515,7 @@ mod tests {
     use super::*;
     use crate::linalg::pcg::NodalJacobi;
     use crate::linalg::testing::block_matrix;
+    use crate::linalg::{triplets, TripletBuilder};
 
     /// The halves side by side and then the separator (or the separator first, backward) give
     /// the bits of one sweep over every node in the new order, on the rayon pool.
@@ -548,5 +549,60 @@ mod tests {
         gs.s = padded;
         gs.backward(&x, &free, None);
         assert!(gs.t.iter().zip(&t).all(|(p, q)| p.to_bits() == q.to_bits()));
+    }
+
+    /// The factored block's solves inside the first half's thread are the operator they were
+    /// on one thread: the block, then the nodes' sweep (forward), and the nodes' sweep, then the
+    /// block (backward), to the bit, with the block in one of two bodies, in both, and on a
+    /// dof of every node (the first half then holds them all).
+    #[test]
+    fn the_block_beside_the_second_half_is_the_block_before_or_after_the_nodes() {
+        let nodes = 300;
+        let n = 3 * nodes;
+        let mut t = TripletBuilder::new(2 * n, 2 * n);
+        for (i, j, v) in triplets(&block_matrix(nodes, 3)) {
+            let d = if i == j { 12.0 } else { 0.0 };
+            t.add(i, j, v + d);
+            t.add(i + n, j + n, v + d);
+        }
+        let a = t.build().unwrap();
+        let cap = |first: usize, c: usize| (0..60).map(move |k| first + 3 * k + c);
+        let blocks: [Vec<usize>; 3] = [
+            cap(0, 2).collect(),
+            cap(0, 2).chain(cap(n, 1)).collect(),
+            (0..2 * n).filter(|i| i % 3 == 2).collect(),
+        ];
+        let free: Vec<bool> = (0..2 * n).map(|i| i % 17 != 5).collect();
+        let x: Vec<f64> = (0..2 * n).map(|i| (0.37 * i as f64).sin()).collect();
+        let same = |p: &[f64], q: &[f64]| p.iter().zip(q).all(|(p, q)| p.to_bits() == q.to_bits());
+        for dofs in blocks {
+            let mut pcg = Pcg::build(&a, "A", dofs, |_| true).unwrap();
+            let mut beside = x.clone();
+            let sum = pcg.forward(&mut beside, &free, |_, y| y[0]);
+            let (gs, bl) = (
+                pcg.gauss_seidel.as_mut().unwrap(),
+                pcg.block.as_mut().unwrap(),
+            );
+            let mut before = x.clone();
+            let xs = bl.forward((&gs.dofs, &gs.coupling), &mut before, &free);
+            let sum_before = gs.forward_nodes(&mut before, &free, |_, y| y[0], |_| {});
+            for (&i, v) in gs.dofs.iter().zip(xs) {
+                before[i] = v;
+            }
+            assert!(same(&beside, &before) && sum.to_bits() == sum_before.to_bits());
+            let padded: Vec<f64> = x.chunks(3).flat_map(|c| [c[0], c[1], c[2], 0.0]).collect();
+            gs.s.clone_from(&padded);
+            gs.backward(&x, &free, Some(bl));
+            let (t, u) = (gs.t.clone(), gs.u.clone());
+            gs.s = padded;
+            gs.backward(&x, &free, None);
+            bl.backward(
+                (&gs.dofs, &gs.coupling),
+                &x,
+                &free,
+                (&mut gs.t, &mut gs.u, &mut gs.ys),
+            );
+            assert!(same(&t, &gs.t) && same(&u, &gs.u));
+        }
     }
 }
