@@ -95,10 +95,11 @@ enum Values {
 /// a node's entries are one 4-lane vector, loaded and stored whole.
 pub const LANES: usize = 4;
 
-/// How far ahead (in values: 512 single-precision values, 2 KiB, 57 blocks; 4 KiB of double-
-/// precision values, not tuned) the vector kernel asks for the values it will read. Without it the product of the 10⁶-dof sphere's step matrix
-/// streamed its 175 MB of values at 12 GB/s on two cores; 256, 512 and 1 024 gave 9.4, 8.9 and
-/// 9.1 ms against 12.6 ms (best of 7 × 5 products, 1 040 163 dofs).
+/// How far ahead (in values: 512 single-precision values, 2 KiB, 57 blocks; 4 KiB of
+/// double-precision values, not tuned) the vector kernel asks for the values it will read.
+/// Without it the product of the 10⁶-dof sphere's step matrix streamed its 175 MB of values at
+/// 12 GB/s on two cores; 256, 512 and 1 024 gave 9.4, 8.9 and 9.1 ms against 12.6 ms (best of
+/// 7 × 5 products, 1 040 163 dofs).
 const PREFETCH: usize = 512;
 
 /// `(l₀ + l₁) + (l₂ + l₃)` of a 4-lane vector.

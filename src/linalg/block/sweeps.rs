@@ -254,23 +254,7 @@ impl BlockSym<f32> {
         }
         let mut level = vec![usize::MAX; nodes];
         let last = if near.is_empty() {
-            // The first node of the piece (body) with the most blocks, the first such piece.
-            let mut heaviest = (0, 0);
-            for j in 0..nodes {
-                if level[j] == usize::MAX {
-                    let mut blocks = 0;
-                    self.search(&rows, &[j], &mut level, |i| {
-                        blocks += self.ptr[i + 1] - self.ptr[i]
-                    });
-                    if blocks > heaviest.0 {
-                        heaviest = (blocks, j);
-                    }
-                }
-            }
-            level.fill(usize::MAX);
-            let far = self.search(&rows, &[heaviest.1], &mut level, |_| {});
-            level.fill(usize::MAX);
-            self.search(&rows, &[far], &mut level, |_| {})
+            self.levels_from_a_peripheral_node(&rows, &mut level)
         } else {
             self.search(&rows, near, &mut level, |_| {})
         };
@@ -302,9 +286,30 @@ impl BlockSym<f32> {
         }
     }
 
-    /// Breadth-first search from the nodes `start` (level 0) over the nodes not yet reached
-    /// (`level` at `usize::MAX`), writing their levels and passing each to `visit`; returns the
-    /// last one reached (the farthest).
+    /// The levels from a peripheral node: the last one reached from the first node of the piece
+    /// (body) with the most blocks, the first such piece; returns the last node reached.
+    fn levels_from_a_peripheral_node(&self, rows: &Rows, level: &mut [usize]) -> usize {
+        let mut heaviest = (0, 0);
+        for j in 0..level.len() {
+            if level[j] == usize::MAX {
+                let mut blocks = 0;
+                self.search(rows, &[j], level, |i| {
+                    blocks += self.ptr[i + 1] - self.ptr[i]
+                });
+                if blocks > heaviest.0 {
+                    heaviest = (blocks, j);
+                }
+            }
+        }
+        level.fill(usize::MAX);
+        let far = self.search(rows, &[heaviest.1], level, |_| {});
+        level.fill(usize::MAX);
+        self.search(rows, &[far], level, |_| {})
+    }
+
+    /// Breadth-first search from the nodes `start` (level 0; not empty) over the nodes not yet
+    /// reached (`level` at `usize::MAX`), writing their levels and passing each to `visit`;
+    /// returns the last one reached (the farthest).
     fn search(
         &self,
         rows: &Rows,

@@ -80,7 +80,7 @@ impl GaussSeidel {
         }
         let n = a.nrows();
         let a = a.as_ref();
-        let coupling: Vec<Vec<(usize, f64)>> = dofs
+        let mut coupling: Vec<Vec<(usize, f64)>> = dofs
             .iter()
             .map(|&j| {
                 let rows = a.row_idx_of_col_raw(j).iter().copied();
@@ -111,9 +111,9 @@ impl GaussSeidel {
                 }
             }
         }
-        let coupling: Vec<Vec<(usize, f64)>> = (coupling.into_iter())
-            .map(|col| col.into_iter().map(|(i, v)| (renumbered(i), v)).collect())
-            .collect();
+        for (i, _) in coupling.iter_mut().flatten() {
+            *i = renumbered(*i);
+        }
         let dofs: Vec<usize> = dofs.iter().map(|&i| renumbered(i)).collect();
         let first = 3 * halves.sizes[0];
         let inside = |i: &usize| *i < first;
