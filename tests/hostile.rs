@@ -572,3 +572,63 @@ fn a_second_study_into_the_same_directory_is_refused_naming_the_first() {
     assert!(third.status.success(), "{}", stderr(&third));
     assert!(!lock.exists(), "a study that ends removes its lock file");
 }
+
+/// Found by a second round of hostile inputs (2026-11-29): a parameter the time-scale check
+/// cannot measure is named itself, not the density it would have blamed (a mesh node at NaN, a
+/// negative stiffness or mass, an element count beyond the memory), and material parameters
+/// whose products overflow name the matrix and the fields instead of failing in the
+/// factorisation.
+#[test]
+fn what_the_time_scale_cannot_measure_is_named_before_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let mesh = dir.path().join("fan.msh");
+    std::fs::write(&mesh, fan_msh([f64::NAN, 0.5])).unwrap();
+    let mesh = mesh.to_str().unwrap();
+    let run = |case: &str, extra: &[&str]| {
+        let mut a = vec!["run", case, "--out", o];
+        a.extend_from_slice(extra);
+        dyncontact(&a)
+    };
+    let block = ["--mesh", mesh, "--t-end", "0.01"];
+    assert_clear_error(
+        &run("cases/block2d.toml", &block),
+        &["fan.msh", "has a non-finite coordinate"],
+    );
+    let spring = |edits: &[(&str, &str)]| edited(dir.path(), "spring_mass.toml", edits);
+    let stiffness = spring(&[("stiffness = 1.0", "stiffness = -1.0")]);
+    assert_clear_error(
+        &run(&stiffness, &[]),
+        &["`system.stiffness`: -1.0", "must be finite and >= 0"],
+    );
+    let mass = spring(&[("mass = 1.0", "mass = -1.0")]);
+    assert_clear_error(
+        &run(&mass, &[]),
+        &["`system.mass`: -1.0", "must be finite and > 0"],
+    );
+    // No stiffness is a free mass bouncing on the obstacle: still a run.
+    let free = spring(&[("stiffness = 1.0", "stiffness = 0.0")]);
+    let out = run(&free, &["--t-end", "0.5"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let short = ["--dt", "0.05", "--t-end", "1"];
+    let huge = ["--elements", "99999999999", "--dt", "0.05", "--t-end", "1"];
+    assert_clear_error(
+        &run("cases/bar1d.toml", &huge),
+        &["`mesh.elements`: 99999999999", "GiB"],
+    );
+    let overflow = edited(
+        dir.path(),
+        "bar1d.toml",
+        &[
+            ("young = 1.0", "young = 1e308"),
+            ("density = 1.0", "density = 1e308"),
+        ],
+    );
+    let mut args = vec!["--elements", "10"];
+    args.extend_from_slice(&short);
+    assert_clear_error(
+        &run(&overflow, &args),
+        &["`K`: inf", "material.young", "overflow"],
+    );
+}

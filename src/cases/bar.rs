@@ -83,6 +83,7 @@ pub fn validate<T>(
     crate::error::length("geometry.length", length)?;
     own()?;
     let (elements, degree) = mesh.resolve(o)?;
+    check_memory(elements, (elements * degree) as f64)?;
     o.apply(&mut run);
     run.validate()?;
     material.check_time_scale(length / elements.max(1) as f64, run.dt)?;
@@ -206,6 +207,13 @@ impl<X: BarExact> Case for Bar<X> {
     }
 }
 
+/// Refuses `mesh.elements` = `elements` when a bar's `dofs` would not fit in the available
+/// memory: K, M and the step matrix (≤ 2p + 1 entries per row, 16 B each), and the vectors.
+/// Checked before the time scale, which a huge count would otherwise blame on the density.
+pub fn check_memory(elements: usize, dofs: f64) -> Result<()> {
+    crate::util::check_memory("mesh.elements", elements, dofs * (3.0 * 5.0 * 16.0 + 200.0))
+}
+
 /// The bar (0, `length`) of modulus `young` and density `density` with `elements` segments of
 /// degree `degree`, every node free, Γ_C its end x = 0 (ν = 0: λ = 0, 2μ = E exactly).
 fn discretisation(
@@ -215,9 +223,7 @@ fn discretisation(
     elements: usize,
     degree: usize,
 ) -> Result<Discretisation> {
-    // K, M and the step matrix (≤ 2p + 1 entries per row, 16 B each), and the vectors.
-    let dofs = (elements * degree) as f64;
-    crate::util::check_memory("mesh.elements", elements, dofs * (3.0 * 5.0 * 16.0 + 200.0))?;
+    check_memory(elements, (elements * degree) as f64)?;
     let mesh = interval(length, elements, degree)?;
     let lame = Lame {
         lambda: 0.0,

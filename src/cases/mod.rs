@@ -365,15 +365,20 @@ pub const TIME_SCALE_RATIO: f64 = 1e6;
 /// time step exceeds [`TIME_SCALE_RATIO`] times `τ = h √(ρ/E)`: the mass term of the step matrix
 /// `m M + k K` is then about `(τ/Δt)² ≤ 1e-12` of the stiffness term, a few digits above its
 /// round-off, so the inertia hardly enters the step (a free body's step matrix is singular to
-/// round-off and its factorisation fails). `density` and `stiffness` are `(field, value)`.
+/// round-off and its factorisation fails). `density` and `stiffness` are `(field, value)`,
+/// refused first if not finite, > 0 and ≥ 0 respectively (τ would be NaN, and the message blame
+/// the density for a negative stiffness). A non-finite `h` (a mesh node at NaN) is left to the
+/// mesh's check, which names the node.
 pub fn check_time_scale(
     density: (&str, f64),
     stiffness: (&str, f64),
     h: f64,
     dt: f64,
 ) -> Result<()> {
+    positive(density.0, density.1)?;
+    crate::error::non_negative(stiffness.0, stiffness.1)?;
     let tau = h * (density.1 / stiffness.1).sqrt();
-    if tau * TIME_SCALE_RATIO >= dt {
+    if !h.is_finite() || tau * TIME_SCALE_RATIO >= dt {
         return Ok(());
     }
     Err(Error::invalid(

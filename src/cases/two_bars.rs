@@ -78,6 +78,7 @@ impl TwoBars {
         o.apply(&mut run);
         run.validate()?;
         let [l1, l2] = spec.geometry.lengths;
+        memory(elements, degree, [l1, l2])?;
         m.check_time_scale(l1 / elements.max(1) as f64, run.dt)?;
         let exact = Exact::new(
             [l1, l2],
@@ -100,9 +101,7 @@ impl TwoBars {
             return Err(Error::invalid("mesh.elements", elements, "must be >= 1"));
         }
         let [l1, l2] = exact.lengths;
-        let n2 = ((elements as f64 * l2 / l1).round() as usize).max(1);
-        let dofs = ((elements + n2) * degree) as f64;
-        crate::util::check_memory("mesh.elements", elements, dofs * (3.0 * 5.0 * 16.0 + 200.0))?;
+        let n2 = memory(elements, degree, [l1, l2])?;
         // ν = 0: λ = 0, 2μ = E exactly.
         let lame = Lame {
             lambda: 0.0,
@@ -131,6 +130,14 @@ impl TwoBars {
     pub fn translation(&self) -> Vec<f64> {
         self.bodies.translation()
     }
+}
+
+/// Bar 2's elements for bar 1's `elements` of the `lengths` (about the same size), after the
+/// memory check of both bars' dofs of degree `degree` ([`super::bar::check_memory`]).
+fn memory(elements: usize, degree: usize, [l1, l2]: [f64; 2]) -> Result<usize> {
+    let n2 = ((elements as f64 * l2 / l1).round() as usize).max(1);
+    super::bar::check_memory(elements, ((elements + n2) * degree) as f64)?;
+    Ok(n2)
 }
 
 impl Case for TwoBars {

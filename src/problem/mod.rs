@@ -106,6 +106,18 @@ impl Problem {
                 return Err(Error::invalid(name, x, "must be finite"));
             }
         }
+        // Parameters each finite but whose products overflow (a modulus and a density near
+        // 1e308) leave infinite entries, which the factorisation would report without a field.
+        for (name, a) in [("K", &self.k), ("M", self.inertia.kinetic())] {
+            if let Some(x) = a.val().iter().find(|x| !x.is_finite()) {
+                return Err(Error::invalid(
+                    name,
+                    x,
+                    "must be finite: the material's parameters (material.young, material.density, \
+                     or the system's stiffness and mass) overflow in its entries",
+                ));
+            }
+        }
         Ok(())
     }
 }
