@@ -146,7 +146,7 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         vtu: Option<PathBuf>,
         /// With --vtu, write every K-th sample (the initial state included).
-        #[arg(long = "vtu-every", value_name = "K", default_value_t = 1,
+        #[arg(long = "vtu-every", value_name = "K", default_value_t = 1, requires = "vtu",
               value_parser = clap::value_parser!(u64).range(1..))]
         vtu_every: u64,
     },
@@ -215,7 +215,7 @@ fn sweep(
     if let Some(s) = shard {
         all = jobs::shard(all, s)?;
     }
-    std::fs::create_dir_all(out).map_err(|e| dyncontact::Error::io(out, e))?;
+    dyncontact::util::output_dir(out, "--out")?;
     eprintln!("running {} runs", all.len());
     let journal = shard.map_or("journal.csv".to_string(), |(i, n)| {
         format!("journal-{i}-of-{n}.csv")
@@ -323,6 +323,7 @@ fn main_result(cli: Cli) -> Result<()> {
             };
             let path = case;
             let case = cases::load(&path, &overrides)?;
+            dyncontact::util::output_dir(&out, "--out")?;
             let fields = vtu.map(|dir| run::FieldOutput {
                 dir,
                 every: vtu_every as usize,

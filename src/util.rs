@@ -65,6 +65,18 @@ pub fn check_memory(field: &str, value: impl std::fmt::Debug, bytes: f64) -> cra
 
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
+/// Creates the output directory `dir` given by the flag `flag` (`--out`), refusing a path that is
+/// not a directory or cannot be created, by the flag's name: called before the work, which it
+/// would otherwise lose.
+pub fn output_dir(dir: &std::path::Path, flag: &str) -> crate::Result<()> {
+    let refuse = |why: &str| crate::Error::invalid(flag, dir.display().to_string(), why);
+    if dir.exists() && !dir.is_dir() {
+        return Err(refuse("exists and is not a directory"));
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| refuse(&format!("cannot be created as a directory: {e}")))
+}
+
 /// Peak resident memory of this process so far (`VmHWM` of `/proc/self/status`, bytes).
 pub fn peak_memory() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;

@@ -632,3 +632,64 @@ fn what_the_time_scale_cannot_measure_is_named_before_it() {
         &["`K`: inf", "material.young", "overflow"],
     );
 }
+
+/// An output path that is a file, `--vtu-every` without `--vtu`, a sweep that would run nothing
+/// (no space, no scheme, no quick level) or a flag its case ignores (`elements` on the spring),
+/// and a report from a directory without case files: refused before any work, naming the flag
+/// or the field.
+#[test]
+fn outputs_and_sweeps_that_would_come_to_nothing_are_refused_before_the_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "").unwrap();
+    let file = file.to_str().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let bar = [
+        "cases/bar1d.toml",
+        "--elements",
+        "10",
+        "--dt",
+        "0.05",
+        "--t-end",
+        "1",
+    ];
+    let mut args = vec!["run"];
+    args.extend_from_slice(&bar);
+    args.extend(["--out", file]);
+    assert_clear_error(&dyncontact(&args), &["`--out`", "not a directory"]);
+    assert_clear_error(
+        &dyncontact(&["sweep", "cases/spring_mass.toml", "--quick", "--out", file]),
+        &["`--out`", "not a directory"],
+    );
+    let mut args = vec!["run"];
+    args.extend_from_slice(&bar);
+    args.extend(["--vtu-every", "5", "--out", o]);
+    assert_clear_error(&dyncontact(&args), &["--vtu <DIR>"]);
+    let spring = |edits: &[(&str, &str)]| edited(dir.path(), "spring_mass.toml", edits);
+    for (edit, needles) in [
+        (
+            ("spaces = [\"standard\"]", "spaces = []"),
+            &["`sweep.orders.spaces`", "at least one space"][..],
+        ),
+        (
+            ("quick_levels = 3", "quick_levels = 0"),
+            &["`sweep.orders.quick_levels`: 0"],
+        ),
+        (
+            (
+                "spaces = [\"standard\"]",
+                "spaces = [\"standard\"]\nelements = 10",
+            ),
+            &["sweep `orders`", "`--elements`", "spring_mass has one dof"],
+        ),
+    ] {
+        let case = spring(&[edit]);
+        let out = dyncontact(&["sweep", &case, "--quick", "--out", o]);
+        assert_clear_error(&out, needles);
+    }
+    let empty = dir.path().join("no-cases");
+    std::fs::create_dir(&empty).unwrap();
+    let out = dyncontact(&["report", "--cases", empty.to_str().unwrap(), "--out", o]);
+    assert_clear_error(&out, &["`--cases`", "no case file"]);
+}

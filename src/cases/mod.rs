@@ -638,7 +638,27 @@ impl CaseFile {
     /// The validated case with `overrides` applied (a mesh override given to a case without
     /// that kind of mesh is refused: it would be ignored).
     pub fn build(&self, overrides: &Overrides) -> Result<Box<dyn Case>> {
-        let o = overrides;
+        self.check_overrides(overrides)?;
+        Ok(match &self.spec {
+            Spec::Bar1d(s) => Box::new(bar1d::Bar1d::from_spec(s.clone(), overrides)?),
+            Spec::BarFlight(s) => {
+                Box::new(bar_flight::BarFlightCase::from_spec(s.clone(), overrides)?)
+            }
+            Spec::Body(s) => Box::new(body::Body::from_spec((**s).clone(), overrides)?),
+            Spec::SpringMass(s) => Box::new(spring_mass::SpringMassCase::from_spec(
+                s.clone(),
+                overrides,
+            )?),
+            Spec::TwoBars(s) => Box::new(two_bars::TwoBars::from_spec(s.clone(), overrides)?),
+            Spec::TwoBodies(s) => {
+                Box::new(two_bodies::TwoBodies::from_spec(*s.clone(), overrides)?)
+            }
+        })
+    }
+
+    /// Refuses the overrides the case would ignore (a mesh override given to a case without
+    /// that kind of mesh), naming the flag.
+    pub fn check_overrides(&self, o: &Overrides) -> Result<()> {
         let (refused, why): (&[&str], &str) = match self.spec {
             Spec::Body(_) => (&[], ""),
             Spec::TwoBodies(_) => (
@@ -676,21 +696,7 @@ impl CaseFile {
         {
             return Err(Error::invalid(flag, value, why));
         }
-        Ok(match &self.spec {
-            Spec::Bar1d(s) => Box::new(bar1d::Bar1d::from_spec(s.clone(), overrides)?),
-            Spec::BarFlight(s) => {
-                Box::new(bar_flight::BarFlightCase::from_spec(s.clone(), overrides)?)
-            }
-            Spec::Body(s) => Box::new(body::Body::from_spec((**s).clone(), overrides)?),
-            Spec::SpringMass(s) => Box::new(spring_mass::SpringMassCase::from_spec(
-                s.clone(),
-                overrides,
-            )?),
-            Spec::TwoBars(s) => Box::new(two_bars::TwoBars::from_spec(s.clone(), overrides)?),
-            Spec::TwoBodies(s) => {
-                Box::new(two_bodies::TwoBodies::from_spec(*s.clone(), overrides)?)
-            }
-        })
+        Ok(())
     }
 }
 

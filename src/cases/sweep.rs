@@ -107,6 +107,19 @@ impl SweepSpec {
     /// The refinement levels (the first `quick_levels` with `quick`), validated.
     pub fn refinements(&self, quick: bool) -> Result<Vec<Refinement>> {
         let field = |f: &str| format!("sweep.{}.{f}", self.name);
+        if self.spaces.is_empty() {
+            return Err(Error::invalid(field("spaces"), "[]", "at least one space"));
+        }
+        if self.schemes.is_empty() {
+            return Err(Error::invalid(
+                field("schemes"),
+                "[]",
+                "at least one scheme",
+            ));
+        }
+        if self.quick_levels == 0 {
+            return Err(Error::invalid(field("quick_levels"), 0, "≥ 1"));
+        }
         for choice in &self.schemes {
             choice
                 .options
@@ -156,7 +169,7 @@ impl SweepSpec {
             positive(&field("dt"), r.dt)?;
         }
         if quick {
-            levels.truncate(self.quick_levels.max(1));
+            levels.truncate(self.quick_levels);
         }
         Ok(levels)
     }

@@ -155,7 +155,14 @@ fn copy_cases(files: &[Arc<CaseFile>], out: &Path) -> Result<Vec<CaseEntry>> {
 /// writes the report into `out`.
 pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRecord>> {
     let files = select(case_files(cases_dir)?, &opts.cases, cases_dir)?;
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    if files.is_empty() {
+        return Err(Error::invalid(
+            "--cases",
+            cases_dir.display().to_string(),
+            "holds no case file (*.toml): nothing to report",
+        ));
+    }
+    crate::util::output_dir(out, "--out")?;
     let _lock = crate::study::lock::Lock::acquire(out, "journal.csv")?;
     let mut all = Vec::new();
     for f in &files {
@@ -339,7 +346,7 @@ fn finite_body_estimate(case: &dyn Case, size: Size) -> Estimate {
 
 /// Joins record files (from `sweep --shard`) into a report in `out` (no time histories).
 pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    crate::util::output_dir(out, "--out")?;
     let mut records = Vec::new();
     for f in files {
         records.extend(read_records(f)?);

@@ -201,6 +201,7 @@ fn sweep_jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
             for choice in &s.schemes {
                 for (level, &refinement) in levels.iter().enumerate() {
                     let overrides = s.overrides(space, choice, refinement);
+                    file.check_overrides(&overrides).map_err(in_sweep)?;
                     let mut spec = case.run().clone();
                     overrides.apply(&mut spec);
                     let in_job = |e: Error| {
