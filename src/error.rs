@@ -161,6 +161,23 @@ impl Error {
         }
     }
 
+    /// An invalid field of a case file's `table` named as it is there (`beta` → `run.beta`):
+    /// for the errors of code that knows the parameter, not the table.
+    pub fn in_table(self, table: &str) -> Self {
+        match self {
+            Error::InvalidField {
+                field,
+                value,
+                requirement,
+            } if !field.contains('.') => Error::InvalidField {
+                field: format!("{table}.{field}"),
+                value,
+                requirement,
+            },
+            e => e,
+        }
+    }
+
     /// The error preceded by `context` (`<context>: <error>`).
     pub fn context(self, context: impl std::fmt::Display) -> Self {
         Error::Context {

@@ -693,3 +693,46 @@ fn outputs_and_sweeps_that_would_come_to_nothing_are_refused_before_the_work() {
     let out = dyncontact(&["report", "--cases", empty.to_str().unwrap(), "--out", o]);
     assert_clear_error(&out, &["`--cases`", "no case file"]);
 }
+
+/// A field is named as the case file has it (`--beta 0` was `beta`, `--elements 0` on the bar
+/// `elements`), a grading beyond the generator's range by `mesh.grading` (1e300 was blamed on
+/// the density), and a mass beyond the round-off of the stiffness by `run.dt` with the mass.
+#[test]
+fn fields_are_named_as_in_the_case_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let run = |args: &[&str]| {
+        let mut a = vec!["run"];
+        a.extend_from_slice(args);
+        a.extend(["--out", o]);
+        dyncontact(&a)
+    };
+    for (flag, needle) in [
+        ("--beta", "`run.beta`: 0.0"),
+        ("--elements", "`mesh.elements`: 0"),
+    ] {
+        let out = run(&[
+            "cases/bar1d.toml",
+            "--dt",
+            "0.05",
+            "--t-end",
+            "1",
+            flag,
+            "0",
+        ]);
+        assert_clear_error(&out, &[needle]);
+    }
+    let graded = edited(
+        dir.path(),
+        "hertz2d.toml",
+        &[("grading = 16.0", "grading = 1e300")],
+    );
+    assert_clear_error(&run(&[&graded]), &["`mesh.grading`: 1e300", "[1, 1e10]"]);
+    let heavy = edited(
+        dir.path(),
+        "spring_mass.toml",
+        &[("mass = 1.0", "mass = 1e300")],
+    );
+    assert_clear_error(&run(&[&heavy]), &["`run.dt`", "check the mass"]);
+}

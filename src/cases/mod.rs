@@ -254,7 +254,7 @@ impl RunSpec {
         self.options.params.validate("run")?;
         self.check_applicable()?;
         crate::space::by_name(&self.space)?;
-        crate::time::by_name(&self.scheme, self.params())?;
+        crate::time::by_name(&self.scheme, self.params()).map_err(|e| e.in_table("run"))?;
         let formulation = crate::contact::formulation(&self.options)?;
         if let (Some(m), false) = (
             &self.options.contact_multiplier,

@@ -91,18 +91,7 @@ impl SpringMassCase {
             v0: s.v0,
             restitution: s.restitution,
         };
-        let exact = SpringMass::new(p, run.t_end).map_err(|e| match e {
-            Error::InvalidField {
-                field,
-                value,
-                requirement,
-            } => Error::InvalidField {
-                field: format!("system.{field}"),
-                value,
-                requirement,
-            },
-            e => e,
-        })?;
+        let exact = SpringMass::new(p, run.t_end).map_err(|e| e.in_table("system"))?;
         Ok(Self {
             exact,
             run,

@@ -9,7 +9,7 @@ use crate::error::{positive, Error, Result};
 pub fn interval(length: f64, elements: usize, degree: usize) -> Result<Mesh> {
     positive("geometry.length", length)?;
     if elements == 0 {
-        return Err(Error::invalid("elements", elements, "must be >= 1"));
+        return Err(Error::invalid("mesh.elements", elements, "must be >= 1"));
     }
     if !(1..=2).contains(&degree) {
         return Err(Error::invalid("mesh.degree", degree, "must be 1 or 2"));

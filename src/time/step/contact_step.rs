@@ -92,11 +92,12 @@ fn check_stiffness_resolved(
         return Ok(());
     }
     Err(Error::invalid(
-        "dt",
-        format!("a step matrix with stiffness factor {k_coef:.3e}"),
+        "run.dt",
+        format!("k = {k_coef:.3e} in the step matrix m M + k K"),
         &format!(
-            "too small: the stiffness term of the step matrix ({stiff:.3e}) is below the \
-             round-off of its mass term ({mass:.3e}); increase dt"
+            "too small against the mass: the stiffness term of the step matrix ({stiff:.3e}) is \
+             below the round-off of its mass term ({mass:.3e}); increase run.dt, or check the \
+             mass (density) against the stiffness"
         ),
     ))
 }
