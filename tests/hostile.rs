@@ -34,6 +34,11 @@ fn dyncontact(args: &[&str]) -> Output {
     dyncontact_within(args, Duration::from_secs(120))
 }
 
+/// `dyncontact run` with `args`, then `tail` (the output directory and the like).
+fn run(args: &[&str], tail: &[&str]) -> Output {
+    dyncontact(&[&["run"], args, tail].concat())
+}
+
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
@@ -482,12 +487,7 @@ fn options_the_run_would_ignore_are_refused_naming_the_flag_or_field() {
     let dir = tempfile::tempdir().unwrap();
     let o = dir.path().join("o");
     let o = o.to_str().unwrap();
-    let run = |args: &[&str]| {
-        let mut a = vec!["run"];
-        a.extend_from_slice(args);
-        a.extend(["--t-end", "0.5", "--out", o]);
-        dyncontact(&a)
-    };
+    let run = |args: &[&str]| run(args, &["--t-end", "0.5", "--out", o]);
     for (args, needles) in [
         (
             &["cases/spring_mass.toml", "--elements", "7"][..],
@@ -586,11 +586,7 @@ fn what_the_time_scale_cannot_measure_is_named_before_it() {
     let mesh = dir.path().join("fan.msh");
     std::fs::write(&mesh, fan_msh([f64::NAN, 0.5])).unwrap();
     let mesh = mesh.to_str().unwrap();
-    let run = |case: &str, extra: &[&str]| {
-        let mut a = vec!["run", case, "--out", o];
-        a.extend_from_slice(extra);
-        dyncontact(&a)
-    };
+    let run = |case: &str, extra: &[&str]| run(&[case], &[extra, &["--out", o]].concat());
     let block = ["--mesh", mesh, "--t-end", "0.01"];
     assert_clear_error(
         &run("cases/block2d.toml", &block),
@@ -654,18 +650,16 @@ fn outputs_and_sweeps_that_would_come_to_nothing_are_refused_before_the_work() {
         "--t-end",
         "1",
     ];
-    let mut args = vec!["run"];
-    args.extend_from_slice(&bar);
-    args.extend(["--out", file]);
-    assert_clear_error(&dyncontact(&args), &["`--out`", "not a directory"]);
+    assert_clear_error(
+        &run(&bar, &["--out", file]),
+        &["`--out`", "not a directory"],
+    );
     assert_clear_error(
         &dyncontact(&["sweep", "cases/spring_mass.toml", "--quick", "--out", file]),
         &["`--out`", "not a directory"],
     );
-    let mut args = vec!["run"];
-    args.extend_from_slice(&bar);
-    args.extend(["--vtu-every", "5", "--out", o]);
-    assert_clear_error(&dyncontact(&args), &["--vtu <DIR>"]);
+    let out = run(&bar, &["--vtu-every", "5", "--out", o]);
+    assert_clear_error(&out, &["--vtu <DIR>"]);
     let spring = |edits: &[(&str, &str)]| edited(dir.path(), "spring_mass.toml", edits);
     for (edit, needles) in [
         (
@@ -702,12 +696,7 @@ fn fields_are_named_as_in_the_case_file() {
     let dir = tempfile::tempdir().unwrap();
     let o = dir.path().join("o");
     let o = o.to_str().unwrap();
-    let run = |args: &[&str]| {
-        let mut a = vec!["run"];
-        a.extend_from_slice(args);
-        a.extend(["--out", o]);
-        dyncontact(&a)
-    };
+    let run = |args: &[&str]| run(args, &["--out", o]);
     for (flag, needle) in [
         ("--beta", "`run.beta`: 0.0"),
         ("--elements", "`mesh.elements`: 0"),
