@@ -667,6 +667,13 @@ fn outputs_and_sweeps_that_would_come_to_nothing_are_refused_before_the_work() {
             &["`sweep.orders.spaces`", "at least one space"][..],
         ),
         (
+            (
+                "scheme = \"newmark\", beta = 0.5",
+                "scheme = \"newmark\", beta = 0.0",
+            ),
+            &["`sweep.orders.schemes.beta`: 0.0"],
+        ),
+        (
             ("quick_levels = 3", "quick_levels = 0"),
             &["`sweep.orders.quick_levels`: 0"],
         ),
@@ -675,22 +682,35 @@ fn outputs_and_sweeps_that_would_come_to_nothing_are_refused_before_the_work() {
                 "spaces = [\"standard\"]",
                 "spaces = [\"standard\"]\nelements = 10",
             ),
-            &["sweep `orders`", "`--elements`", "spring_mass has one dof"],
+            &[
+                "sweep `orders`",
+                "`sweep.orders.elements`",
+                "spring_mass has one dof",
+            ],
         ),
     ] {
         let case = spring(&[edit]);
         let out = dyncontact(&["sweep", &case, "--quick", "--out", o]);
         assert_clear_error(&out, needles);
     }
+    // A sweep without schemes, the case's own sweep replaced.
+    let text = std::fs::read_to_string("cases/spring_mass.toml").unwrap();
+    let head = text.split("[[sweep]]").next().unwrap();
+    let case = dir.path().join("no-schemes.toml");
+    let sweep = "[[sweep]]\nname = \"orders\"\nspaces = [\"standard\"]\nschemes = []\ndt = 0.01\nlevels = 1\n";
+    std::fs::write(&case, format!("{head}{sweep}")).unwrap();
+    let out = dyncontact(&["sweep", case.to_str().unwrap(), "--out", o]);
+    assert_clear_error(&out, &["`sweep.orders.schemes`", "at least one scheme"]);
     let empty = dir.path().join("no-cases");
     std::fs::create_dir(&empty).unwrap();
     let out = dyncontact(&["report", "--cases", empty.to_str().unwrap(), "--out", o]);
-    assert_clear_error(&out, &["`--cases`", "no case file"]);
+    assert_clear_error(&out, &["`--cases`", "no case file with [[sweep]] tables"]);
 }
 
 /// A field is named as the case file has it (`--beta 0` was `beta`, `--elements 0` on the bar
 /// `elements`), a grading beyond the generator's range by `mesh.grading` (1e300 was blamed on
-/// the density), and a mass beyond the round-off of the stiffness by `run.dt` with the mass.
+/// the density), two bars beyond the memory by `mesh.degree` or `mesh.elements`, and a mass
+/// beyond the round-off of the stiffness by `run.dt` with the mass.
 #[test]
 fn fields_are_named_as_in_the_case_file() {
     let dir = tempfile::tempdir().unwrap();
@@ -718,6 +738,16 @@ fn fields_are_named_as_in_the_case_file() {
         &[("grading = 16.0", "grading = 1e300")],
     );
     assert_clear_error(&run(&[&graded]), &["`mesh.grading`: 1e300", "[1, 1e10]"]);
+    // Bar 2's element count in floating point: a huge degree or length ratio cannot wrap it
+    // (lengths 1 and 1e30 wrapped to 39 elements and panicked indexing the exact solution).
+    let degree = run(&["cases/two_bars.toml", "--degree", "1000000000000"]);
+    assert_clear_error(&degree, &["`mesh.degree`: 1000000000000"]);
+    let long = edited(
+        dir.path(),
+        "two_bars.toml",
+        &[("lengths = [1.0, 1.0]", "lengths = [1.0, 1e30]")],
+    );
+    assert_clear_error(&run(&[&long]), &["`mesh.elements`: 40", "GiB"]);
     let heavy = edited(
         dir.path(),
         "spring_mass.toml",

@@ -104,9 +104,14 @@ fn two() -> usize {
 }
 
 impl SweepSpec {
-    /// The refinement levels (the first `quick_levels` with `quick`), validated.
-    pub fn refinements(&self, quick: bool) -> Result<Vec<Refinement>> {
-        let field = |f: &str| format!("sweep.{}.{f}", self.name);
+    /// The field `f` of this table as named in errors, `sweep.<name>.<f>`.
+    pub fn field(&self, f: &str) -> String {
+        format!("sweep.{}.{f}", self.name)
+    }
+
+    /// Refuses a table that would run nothing: no space, no scheme, no level kept by `--quick`.
+    fn validate(&self) -> Result<()> {
+        let field = |f: &str| self.field(f);
         if self.spaces.is_empty() {
             return Err(Error::invalid(field("spaces"), "[]", "at least one space"));
         }
@@ -120,6 +125,13 @@ impl SweepSpec {
         if self.quick_levels == 0 {
             return Err(Error::invalid(field("quick_levels"), 0, "≥ 1"));
         }
+        Ok(())
+    }
+
+    /// The refinement levels (the first `quick_levels` with `quick`), validated.
+    pub fn refinements(&self, quick: bool) -> Result<Vec<Refinement>> {
+        self.validate()?;
+        let field = |f: &str| self.field(f);
         for choice in &self.schemes {
             choice
                 .options

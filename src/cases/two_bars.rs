@@ -78,7 +78,7 @@ impl TwoBars {
         o.apply(&mut run);
         run.validate()?;
         let [l1, l2] = spec.geometry.lengths;
-        memory(elements, degree, [l1, l2])?;
+        bar2_elements(elements, degree, [l1, l2])?;
         m.check_time_scale(l1 / elements.max(1) as f64, run.dt)?;
         let exact = Exact::new(
             [l1, l2],
@@ -94,14 +94,11 @@ impl TwoBars {
 
     /// The bars of the exact solution `exact`, bar 1 with `elements` elements of degree `degree`.
     pub fn new(exact: Exact, elements: usize, degree: usize, run: RunSpec) -> Result<Self> {
-        if !(1..=2).contains(&degree) {
-            return Err(Error::invalid("mesh.degree", degree, "must be 1 or 2"));
-        }
         if elements == 0 {
             return Err(Error::invalid("mesh.elements", elements, "must be >= 1"));
         }
         let [l1, l2] = exact.lengths;
-        let n2 = memory(elements, degree, [l1, l2])?;
+        let n2 = bar2_elements(elements, degree, [l1, l2])?;
         // ν = 0: λ = 0, 2μ = E exactly.
         let lame = Lame {
             lambda: 0.0,
@@ -132,12 +129,17 @@ impl TwoBars {
     }
 }
 
-/// Bar 2's elements for bar 1's `elements` of the `lengths` (about the same size), after the
-/// memory check of both bars' dofs of degree `degree` ([`super::bar::check_memory`]).
-fn memory(elements: usize, degree: usize, [l1, l2]: [f64; 2]) -> Result<usize> {
-    let n2 = ((elements as f64 * l2 / l1).round() as usize).max(1);
-    super::bar::check_memory(elements, ((elements + n2) * degree) as f64)?;
-    Ok(n2)
+/// Bar 2's elements for bar 1's `elements` of the `lengths` (about the same size), once the
+/// `degree` (1 or 2) and the memory of both bars' dofs are checked
+/// ([`super::bar::check_memory`]; the count in floating point, which a length ratio of 1e30 or
+/// a huge degree cannot wrap).
+fn bar2_elements(elements: usize, degree: usize, [l1, l2]: [f64; 2]) -> Result<usize> {
+    if !(1..=2).contains(&degree) {
+        return Err(Error::invalid("mesh.degree", degree, "must be 1 or 2"));
+    }
+    let n2 = (elements as f64 * l2 / l1).round().max(1.0);
+    super::bar::check_memory(elements, (elements as f64 + n2) * degree as f64)?;
+    Ok(n2 as usize)
 }
 
 impl Case for TwoBars {

@@ -108,13 +108,19 @@ impl Problem {
         }
         // Parameters each finite but whose products overflow (a modulus and a density near
         // 1e308) leave infinite entries, which the factorisation would report without a field.
-        for (name, a) in [("K", &self.k), ("M", self.inertia.kinetic())] {
+        for (name, a, fields) in [
+            ("K", &self.k, "material.young (or system.stiffness)"),
+            (
+                "M",
+                self.inertia.kinetic(),
+                "material.density (or system.mass)",
+            ),
+        ] {
             if let Some(x) = a.val().iter().find(|x| !x.is_finite()) {
                 return Err(Error::invalid(
                     name,
                     x,
-                    "must be finite: the material's parameters (material.young, material.density, \
-                     or the system's stiffness and mass) overflow in its entries",
+                    &format!("must be finite: {fields} overflows in its entries"),
                 ));
             }
         }

@@ -159,7 +159,7 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
         return Err(Error::invalid(
             "--cases",
             cases_dir.display().to_string(),
-            "holds no case file (*.toml): nothing to report",
+            "holds no case file with [[sweep]] tables: nothing to report",
         ));
     }
     crate::util::output_dir(out, "--out")?;

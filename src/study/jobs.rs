@@ -201,9 +201,25 @@ fn sweep_jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
             for choice in &s.schemes {
                 for (level, &refinement) in levels.iter().enumerate() {
                     let overrides = s.overrides(space, choice, refinement);
-                    file.check_overrides(&overrides).map_err(in_sweep)?;
+                    // The sweep's fields, not the flags a run would name.
+                    let as_field = |e: Error| match e {
+                        Error::InvalidField {
+                            field,
+                            value,
+                            requirement,
+                        } => Error::InvalidField {
+                            field: s.field(field.trim_start_matches("--")),
+                            value,
+                            requirement,
+                        },
+                        e => e,
+                    };
+                    file.check_overrides(&overrides)
+                        .map_err(|e| in_sweep(as_field(e)))?;
                     let mut spec = case.run().clone();
                     overrides.apply(&mut spec);
+                    crate::time::by_name(&spec.scheme, spec.params())
+                        .map_err(|e| in_sweep(e.in_table(&s.field("schemes"))))?;
                     let in_job = |e: Error| {
                         e.context(format!(
                             "sweep `{}`, {space} × {}, level {level}",
