@@ -164,13 +164,21 @@ impl Error {
     /// An invalid field of a case file's `table` named as it is there (`beta` → `run.beta`):
     /// for the errors of code that knows the parameter, not the table.
     pub fn in_table(self, table: &str) -> Self {
+        self.with_field(|f| match f.contains('.') {
+            true => f.to_string(),
+            false => format!("{table}.{f}"),
+        })
+    }
+
+    /// An invalid field renamed by `rename` (any other error as it is).
+    pub fn with_field(self, rename: impl FnOnce(&str) -> String) -> Self {
         match self {
             Error::InvalidField {
                 field,
                 value,
                 requirement,
-            } if !field.contains('.') => Error::InvalidField {
-                field: format!("{table}.{field}"),
+            } => Error::InvalidField {
+                field: rename(&field),
                 value,
                 requirement,
             },

@@ -199,27 +199,19 @@ fn sweep_jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
         for space in &s.spaces {
             crate::space::by_name(space).map_err(in_sweep)?;
             for choice in &s.schemes {
+                // The scheme's parameters, named as the sweep's (once per choice).
+                let mut spec = case.run().clone();
+                s.overrides(space, choice, levels[0]).apply(&mut spec);
+                crate::time::by_name(&spec.scheme, spec.params())
+                    .map_err(|e| in_sweep(e.in_table(&s.field("schemes"))))?;
                 for (level, &refinement) in levels.iter().enumerate() {
                     let overrides = s.overrides(space, choice, refinement);
                     // The sweep's fields, not the flags a run would name.
-                    let as_field = |e: Error| match e {
-                        Error::InvalidField {
-                            field,
-                            value,
-                            requirement,
-                        } => Error::InvalidField {
-                            field: s.field(field.trim_start_matches("--")),
-                            value,
-                            requirement,
-                        },
-                        e => e,
-                    };
+                    let as_field = |f: &str| s.field(f.trim_start_matches("--"));
                     file.check_overrides(&overrides)
-                        .map_err(|e| in_sweep(as_field(e)))?;
+                        .map_err(|e| in_sweep(e.with_field(as_field)))?;
                     let mut spec = case.run().clone();
                     overrides.apply(&mut spec);
-                    crate::time::by_name(&spec.scheme, spec.params())
-                        .map_err(|e| in_sweep(e.in_table(&s.field("schemes"))))?;
                     let in_job = |e: Error| {
                         e.context(format!(
                             "sweep `{}`, {space} × {}, level {level}",
