@@ -1,8 +1,9 @@
 //! Contact solvers on random LCPs: the exact active-set solver and Clarabel's QP agree to 1e-8,
-//! and every solver's output satisfies its complementarity conditions.
+//! every solver agrees with the active set in any units, and every solver's output satisfies its
+//! complementarity conditions.
 
 use dyncontact::contact::penalty::Penalty;
-use dyncontact::contact::{by_name, check_solution, Solver};
+use dyncontact::contact::{by_name, check_solution, Solver, SOLVERS};
 use nalgebra::DMatrix;
 use proptest::prelude::*;
 
@@ -45,6 +46,32 @@ proptest! {
         check_solution(&d, &q, &qp, 1e-8).map_err(TestCaseError::fail)?;
         for (a, b) in exact.iter().zip(&qp) {
             prop_assert!((a - b).abs() <= 1e-8, "active_set {a} vs clarabel {b}");
+        }
+    }
+
+    /// Every solver of the LCP (the friction solvers without friction) agrees with the exact
+    /// active set whatever the units: q and D scaled by 10^a and 10^b, a, b ∈ [−6, 6] (a step's
+    /// forces are about 1e-4 on block2d). The bound, 1e-5 of the largest of ‖λ‖∞ and ‖q‖∞/‖D‖,
+    /// is De Saxcé's tolerance (1e-6 on the Alart–Curnier residual) times a margin of ten for
+    /// D's conditioning (eigenvalues in [0.1, n/3 + 0.1]). An interior point with absolute
+    /// tolerances failed on its first step at 1e-4.
+    #[test]
+    fn every_solver_agrees_with_the_active_set_in_any_units(
+        (d, q) in lcp(), a in -6i32..=6, b in -6i32..=6,
+    ) {
+        let d = d * 10f64.powi(b);
+        let q: Vec<f64> = q.iter().map(|v| v * 10f64.powi(a)).collect();
+        let exact = solve("active_set", &d, &q);
+        let dmax = d.amax();
+        let qmax = q.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+        let scale = exact.iter().fold(qmax / dmax, |m: f64, v| m.max(v.abs()));
+        for name in SOLVERS {
+            let lambda = solve(name, &d, &q);
+            let err = exact
+                .iter()
+                .zip(&lambda)
+                .fold(0.0, |m: f64, (x, y)| m.max((x - y).abs()));
+            prop_assert!(err <= 1e-5 * scale, "{name}: {err:e} against a scale of {scale:e}");
         }
     }
 

@@ -460,41 +460,30 @@ fn the_3d_block_slides_as_the_2d_one() {
     assert!(dv < 1e-8, "solvers differ by {dv:e}");
 }
 
-/// De Saxcé's fixed point (a Clarabel second-order-cone QP per round) solves the same law while
-/// the block slides: it agrees with Alart–Curnier to 1e-7 up to t = 3.9 (measured 9.6e-9), at
-/// about 70× the cost (measured 0.36 s against 0.005 s of time loop). At the stick–slip
-/// transition the fixed point stalls (measured: Alart–Curnier residual 1.1e-6 after 100 rounds
-/// at step 400, t = 4.0, the step where the block stops; in 3D at step 211): the run stops with
-/// an error naming the step, as the suite does for a solver failure, rather than go on with a
-/// reaction that is not Coulomb's.
+/// De Saxcé's fixed point (a Clarabel second-order-cone QP per round) solves the same law as
+/// Alart–Curnier through the whole run, the stop at t = 4 included: the com velocity and the
+/// friction work agree within 1e-6 (the residual it accepts where its rounds level off, relative;
+/// measured 1.7e-8), at about 70× the cost. Its rounds are solved in units of order one: with
+/// Clarabel's absolute tolerances on the step's forces the fixed point used to stall at step 400
+/// (residual 1.1e-6 after 100 rounds), which had been reported as a stall at the stick–slip
+/// transition.
 #[test]
-fn de_saxce_agrees_while_sliding_and_names_the_step_where_it_stalls() {
-    let with = |solver: &str, t_end: f64| {
+fn de_saxce_agrees_with_alart_curnier_through_the_stop() {
+    let with = |solver: &str| {
         slide("standard", "backward_euler", |o| {
             o.options.contact_solver = Some(solver.into());
-            o.t_end = Some(t_end);
         })
+        .unwrap()
     };
-    let (a, b) = (
-        with("alart_curnier", 3.9).unwrap(),
-        with("de_saxce", 3.9).unwrap(),
-    );
+    let (a, b) = (with("alart_curnier"), with("de_saxce"));
+    slides_and_stops(&b, "2D, De Saxcé");
     let dv = series(&a)
         .iter()
         .zip(series(&b))
         .map(|(x, y)| (x.1 - y.1).abs().max((x.3 - y.3).abs()))
         .fold(0.0, f64::max);
-    println!("De Saxcé against Alart–Curnier up to t = 3.9: {dv:.1e}");
-    assert!(dv < 1e-7, "De Saxcé differs by {dv:e}");
-    let Err(e) = with("de_saxce", 4.5) else {
-        panic!("De Saxcé's fixed point converged at the stick–slip transition: update the doc");
-    };
-    let text = e.to_string();
-    println!("{text}");
-    assert!(
-        text.contains("step 400") && text.contains("de_saxce"),
-        "{text}"
-    );
+    println!("De Saxcé against Alart–Curnier: {dv:.1e}");
+    assert!(dv < 1e-6, "De Saxcé differs by {dv:e}");
 }
 
 /// The least-squares slope of `(t, v)` over t ≥ 0.3 (after the release's bounce).

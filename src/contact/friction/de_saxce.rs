@@ -10,13 +10,19 @@
 //!
 //! whose KKT conditions are `C*_μ ∋ W r + q + s e_N ⊥ r ∈ C_μ`: in Clarabel's form `A = −D`,
 //! `D = diag(μ, 1, …)`, `b = 0`, cone `SecondOrderConeT(d)` with the cone variable t first
-//! (`clarabel-0.11.1/src/solver/core/cones/socone.rs` line 105). At a fixed point s = μ‖u_T‖ and
-//! û is De Saxcé's: the law holds exactly. The outer loop stops when the Alart–Curnier residual
-//! ([`super::alart_curnier`]) is below [`TOLERANCE`] · scale (looser than the other solvers':
-//! the interior point's own accuracy is 1e-10) and fails after [`MAX_FIXED_POINT`] rounds: the
-//! fixed point is not guaranteed to converge (the problem is not convex).
+//! (`clarabel-0.11.1/src/solver/core/cones/socone.rs` line 105), in units of order one
+//! ([`Units`]; unscaled, every case failed at its first contact step). A round that Clarabel
+//! does not solve to 1e-12 is solved again at 1e-11, then 1e-10 ([`IP_TOLERANCES`]). At a fixed
+//! point s = μ‖u_T‖ and û is De Saxcé's: the law holds exactly. The outer loop stops when the
+//! Alart–Curnier residual ([`super::alart_curnier`]) is below [`TOLERANCE`] · scale (looser than
+//! the other solvers' 1e-11), or, once [`STAGNANT`] rounds have not improved it, below
+//! [`FLOOR`] · scale: the square root of the interior point's tolerance, its accuracy on a
+//! degenerate pair (a point with no gap and no force, or at the cone's apex; oblique3d's rounds
+//! level off at 1.0e-7 at step 31). Otherwise it fails, and after [`MAX_FIXED_POINT`] rounds:
+//! the fixed point is not guaranteed to converge (the problem is not convex).
 
 use super::{Coulomb, Local};
+use crate::contact::clarabel_qp::Units;
 use crate::contact::{SolveInfo, Solver};
 use crate::error::SolverError;
 use clarabel::algebra::CscMatrix;
@@ -28,28 +34,45 @@ use nalgebra::{DMatrix, DVector};
 /// Relative tolerance on the Alart–Curnier residual at a fixed point.
 pub const TOLERANCE: f64 = 1e-7;
 
+/// The residual accepted when the rounds stop improving: √1e-12, the interior point's accuracy
+/// on a degenerate pair.
+pub const FLOOR: f64 = 1e-6;
+
 /// Fixed-point rounds allowed per step.
 pub const MAX_FIXED_POINT: usize = 100;
+
+/// Rounds in a row without a 1 % decrease of the best residual after which the fixed point
+/// stops: it has reached the interior point's accuracy.
+pub const STAGNANT: usize = 5;
+
+/// The interior point's tolerances (gap and feasibility, in the round's units of order one),
+/// tightest first: a round that ends otherwise than solved at one is solved again at the next.
+pub const IP_TOLERANCES: [f64; 3] = [1e-12, 1e-11, 1e-10];
 
 /// The fixed point with Clarabel's interior point for each round.
 #[derive(Debug, Clone)]
 pub struct DeSaxce {
     law: Coulomb,
-    settings: DefaultSettings<f64>,
+    settings: Vec<DefaultSettings<f64>>,
 }
 
 impl DeSaxce {
-    /// For `law`, interior point to 1e-12 without console output.
+    /// For `law`, interior point to [`IP_TOLERANCES`] without console output.
     pub fn new(law: Coulomb) -> Self {
-        let settings = DefaultSettingsBuilder::default()
-            .verbose(false)
-            .max_iter(200)
-            .tol_gap_abs(1e-12)
-            .tol_gap_rel(1e-12)
-            .tol_feas(1e-12)
-            .tol_ktratio(1e-10)
-            .build()
-            .expect("constant Clarabel settings are valid");
+        let settings = IP_TOLERANCES
+            .iter()
+            .map(|&tol| {
+                DefaultSettingsBuilder::default()
+                    .verbose(false)
+                    .max_iter(200)
+                    .tol_gap_abs(tol)
+                    .tol_gap_rel(tol)
+                    .tol_feas(tol)
+                    .tol_ktratio(tol * 100.0)
+                    .build()
+                    .expect("constant Clarabel settings are valid")
+            })
+            .collect();
         Self { law, settings }
     }
 
@@ -57,11 +80,15 @@ impl DeSaxce {
     /// iterations.
     fn round(&self, loc: &Local, s: &[f64]) -> Result<(DVector<f64>, usize), SolverError> {
         let (k, dim) = (loc.q.len(), loc.dim);
-        let p = upper(&loc.w);
         let mut q: Vec<f64> = loc.q.iter().copied().collect();
         for (pt, si) in s.iter().enumerate() {
             q[pt * dim] += si;
         }
+        let Some(units) = Units::new((0..k).map(|a| loc.w[(a, a)]), &q) else {
+            return Ok((DVector::zeros(k), 0));
+        };
+        q.iter_mut().for_each(|v| *v /= units.f);
+        let p = upper(&(&loc.w / units.w));
         // A = −D (diagonal), b = 0: the slack is D r.
         let diag: Vec<f64> = (0..k)
             .map(|a| {
@@ -81,21 +108,26 @@ impl DeSaxce {
                 .map(|_| SupportedConeT::SecondOrderConeT(dim))
                 .collect()
         };
-        let mut solver = DefaultSolver::new(&p, &q, &a, &b, &cones, self.settings.clone())
-            .map_err(|e| SolverError::Clarabel {
-                status: format!("setup failed: {e}"),
-            })?;
-        solver.solve();
-        let status = solver.solution.status;
-        if !matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
-            return Err(SolverError::Clarabel {
-                status: format!("{status:?}"),
-            });
+        let (mut iterations, mut statuses) = (0, Vec::new());
+        for settings in &self.settings {
+            let mut solver =
+                DefaultSolver::new(&p, &q, &a, &b, &cones, settings.clone()).map_err(|e| {
+                    SolverError::Clarabel {
+                        status: format!("setup failed: {e}"),
+                    }
+                })?;
+            solver.solve();
+            iterations += solver.info.iterations as usize;
+            let status = solver.solution.status;
+            if matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
+                let r = DVector::from_vec(units.unscale(&solver.solution.x));
+                return Ok((r, iterations));
+            }
+            statuses.push(format!("{status:?}"));
         }
-        Ok((
-            DVector::from_vec(solver.solution.x.clone()),
-            solver.info.iterations as usize,
-        ))
+        Err(SolverError::Clarabel {
+            status: statuses.join(", then "),
+        })
     }
 }
 
@@ -144,8 +176,9 @@ impl Solver for DeSaxce {
             lambda.fill(0.0);
             return Ok(SolveInfo::default());
         }
-        let (mut iterations, mut norm) = (0, f64::INFINITY);
-        for _ in 0..MAX_FIXED_POINT {
+        let (mut iterations, mut norm, mut best, mut stagnant) =
+            (0, f64::INFINITY, f64::INFINITY, 0);
+        for round in 1..=MAX_FIXED_POINT {
             let (next, its) = self.round(&loc, &shifts(&loc, &r))?;
             iterations += its;
             r = next;
@@ -153,6 +186,22 @@ impl Solver for DeSaxce {
             (norm, done) = loc.converged(&r, TOLERANCE);
             if done {
                 return Ok(loc.finish(&self.law, &r, lambda, iterations));
+            }
+            (best, stagnant) = if norm < 0.99 * best {
+                (norm, 0)
+            } else {
+                (best, stagnant + 1)
+            };
+            if stagnant == STAGNANT {
+                if loc.converged(&r, FLOOR).1 {
+                    return Ok(loc.finish(&self.law, &r, lambda, iterations));
+                }
+                return Err(loc.not_converged(
+                    "de_saxce",
+                    &r,
+                    (norm, FLOOR),
+                    format!("{round} fixed-point rounds (the last {STAGNANT} without progress)"),
+                ));
             }
         }
         Err(loc.not_converged(
