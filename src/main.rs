@@ -248,6 +248,12 @@ fn sweep(
 }
 
 fn main_result(cli: Cli) -> Result<()> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = std::env::var_os("RAYON_NUM_THREADS");
+    dyncontact::util::check_threads(
+        threads.as_ref().map(|t| t.to_string_lossy()).as_deref(),
+        cores,
+    )?;
     match cli.command {
         Command::List { dir } => list(&dir),
         Command::Sweep {

@@ -41,9 +41,20 @@ impl<T: ?Sized, I> Entry<T, I> {
     pub fn describe(&self, values: &Params) -> String {
         self.params
             .iter()
-            .map(|p| format!("{}={}", p.name, values.get(p)))
+            .map(|p| format!("{}={}", p.name, value_text(values.get(p))))
             .collect::<Vec<_>>()
             .join(";")
+    }
+}
+
+/// A parameter's value as the records write it: as Rust prints it, in exponent form outside
+/// [1e-4, 1e16) (`penalty=1e300`, not 301 digits).
+pub fn value_text(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !a.is_finite() || (1e-4..1e16).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }
 
@@ -127,7 +138,10 @@ impl Params {
     pub fn label<'a>(&self, order: impl IntoIterator<Item = &'a Param>) -> String {
         order
             .into_iter()
-            .filter_map(|p| self.value(p).map(|v| format!("{}={v}", p.label)))
+            .filter_map(|p| {
+                self.value(p)
+                    .map(|v| format!("{}={}", p.label, value_text(v)))
+            })
             .collect::<Vec<_>>()
             .join(", ")
     }
@@ -224,5 +238,21 @@ impl Options {
         pick(&mut self.contact_solver, &other.contact_solver);
         pick(&mut self.linear_solver, &other.linear_solver);
         self.params.overlay(&other.params);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::value_text;
+
+    #[test]
+    fn values_keep_their_text_and_extremes_take_an_exponent() {
+        let cases = [(0.5, "0.5"), (1.0, "1"), (1e-3, "0.001"), (-100.0, "-100")];
+        for (v, text) in cases
+            .into_iter()
+            .chain([(1e300, "1e300"), (1e-5, "1e-5"), (0.0, "0")])
+        {
+            assert_eq!(value_text(v), text);
+        }
     }
 }

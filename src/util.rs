@@ -77,6 +77,33 @@ pub fn output_dir(dir: &std::path::Path, flag: &str) -> crate::Result<()> {
         .map_err(|e| refuse(&format!("cannot be created as a directory: {e}")))
 }
 
+/// Worker threads per core that `RAYON_NUM_THREADS` may ask for (at least [`MIN_THREAD_CAP`]
+/// in all).
+pub const THREADS_PER_CORE: usize = 4;
+
+/// The fewest worker threads `RAYON_NUM_THREADS` may always ask for.
+pub const MIN_THREAD_CAP: usize = 64;
+
+/// Refuses a `RAYON_NUM_THREADS` (`value`, the variable's text) that is not a whole number
+/// (rayon would silently fall back to one thread per core) or asks for more than
+/// [`THREADS_PER_CORE`] per core of `cores`: each worker takes a stack and the report schedules
+/// a run on each (10⁴ made a one-step spring take 35 s, 10⁵ never started).
+pub fn check_threads(value: Option<&str>, cores: usize) -> crate::Result<()> {
+    let Some(text) = value else { return Ok(()) };
+    let cap = (THREADS_PER_CORE * cores).max(MIN_THREAD_CAP);
+    let refuse = |why: &str| crate::Error::invalid("RAYON_NUM_THREADS", text, why);
+    match text.trim().parse::<usize>() {
+        Err(_) => Err(refuse(
+            "must be a whole number of worker threads (0: one per core)",
+        )),
+        Ok(n) if n > cap => Err(refuse(&format!(
+            "at most {cap} worker threads on this machine ({THREADS_PER_CORE} per core, or \
+             {MIN_THREAD_CAP}): each takes a stack, and the report runs a case on each"
+        ))),
+        Ok(_) => Ok(()),
+    }
+}
+
 /// Peak resident memory of this process so far (`VmHWM` of `/proc/self/status`, bytes).
 pub fn peak_memory() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -88,6 +115,18 @@ pub fn peak_memory() -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn worker_threads_are_whole_numbers_up_to_four_per_core() {
+        for ok in [None, Some("0"), Some("1"), Some("64"), Some(" 8 ")] {
+            assert!(check_threads(ok, 2).is_ok(), "{ok:?}");
+        }
+        assert!(check_threads(Some("512"), 128).is_ok());
+        for bad in ["65", "100000", "abc", "-1", "1.5", ""] {
+            let e = check_threads(Some(bad), 2).unwrap_err().to_string();
+            assert!(e.contains("RAYON_NUM_THREADS"), "{bad}: {e}");
+        }
+    }
 
     #[test]
     fn fnv1a_matches_its_published_test_vectors() {

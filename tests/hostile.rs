@@ -755,3 +755,18 @@ fn fields_are_named_as_in_the_case_file() {
     );
     assert_clear_error(&run(&[&heavy]), &["`run.dt`", "check the mass"]);
 }
+
+/// `RAYON_NUM_THREADS=100000` never started a run (10⁴ took 35 s for a one-step spring), and
+/// rayon reads a typo as "one per core" without a word: both are refused naming the variable,
+/// before any work.
+#[test]
+fn worker_threads_beyond_the_machine_are_refused_naming_the_variable() {
+    for value in ["100000", "two"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
+            .args(["list", "cases"])
+            .env("RAYON_NUM_THREADS", value)
+            .output()
+            .expect("binary runs");
+        assert_clear_error(&out, &["RAYON_NUM_THREADS", value]);
+    }
+}

@@ -337,6 +337,13 @@ fn the_inputs_the_property_found_are_refused_naming_their_field() {
             Some(Value::Integer(i64::MAX)),
             "sweep.orders.levels",
         ),
+        // A ratio whose first refinement overflows was blamed on the levels.
+        (
+            "bar1d",
+            vec![key("sweep"), Step::Index(0), key("ratio")],
+            Some(Value::Integer(i64::MAX)),
+            "sweep.orders.ratio",
+        ),
         (
             "hertz2d",
             vec![key("contact"), key("facing")],

@@ -162,12 +162,12 @@ impl SweepSpec {
             };
             let mut levels = Vec::new();
             for k in 0..count {
-                levels.push(level(k).ok_or_else(|| {
-                    Error::invalid(
-                        field("levels"),
-                        count,
-                        &format!("level {k} would take ratio^{k} times the elements or steps"),
-                    )
+                let overflow =
+                    format!("level {k} would take ratio^{k} times the elements or steps");
+                levels.push(level(k).ok_or_else(|| match k {
+                    // The first refinement overflows: the ratio alone is too large.
+                    1 => Error::invalid(field("ratio"), self.ratio, &overflow),
+                    _ => Error::invalid(field("levels"), count, &overflow),
                 })?);
             }
             levels

@@ -346,11 +346,12 @@ fn finite_body_estimate(case: &dyn Case, size: Size) -> Estimate {
 
 /// Joins record files (from `sweep --shard`) into a report in `out` (no time histories).
 pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
-    crate::util::output_dir(out, "--out")?;
     let mut records = Vec::new();
     for f in files {
         records.extend(read_records(f)?);
     }
+    // After the inputs, which are cheap to read: a bad input leaves no empty directory.
+    crate::util::output_dir(out, "--out")?;
     let cases: Vec<CaseEntry> = crate::util::unique(records.iter().map(|r| r.summary.case.clone()))
         .into_iter()
         .map(|kind| CaseEntry {
