@@ -247,11 +247,15 @@ mod tests {
 
     #[test]
     fn values_keep_their_text_and_extremes_take_an_exponent() {
-        let cases = [(0.5, "0.5"), (1.0, "1"), (1e-3, "0.001"), (-100.0, "-100")];
-        for (v, text) in cases
-            .into_iter()
-            .chain([(1e300, "1e300"), (1e-5, "1e-5"), (0.0, "0")])
-        {
+        for (v, text) in [
+            (0.5, "0.5"),
+            (1.0, "1"),
+            (1e-3, "0.001"),
+            (-100.0, "-100"),
+            (0.0, "0"),
+            (1e300, "1e300"),
+            (1e-5, "1e-5"),
+        ] {
             assert_eq!(value_text(v), text);
         }
     }

@@ -182,7 +182,7 @@ impl Local {
 
     /// The scale of the residual: the largest of `‖r‖` and `‖ρ q‖` (a force), or the smallest
     /// positive number.
-    fn scale(&self, r: &DVector<f64>) -> f64 {
+    pub fn scale(&self, r: &DVector<f64>) -> f64 {
         let rq = (0..self.q.len())
             .map(|a| (self.rho[a / self.dim] * self.q[a]).powi(2))
             .sum::<f64>()
