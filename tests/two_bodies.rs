@@ -369,3 +369,27 @@ fn the_master_probe_faces_the_slave_probe() {
         }
     }
 }
+
+/// Weak multipliers are built on the faces of Γ_C, which the node-to-segment rows of two bodies
+/// in 2D and 3D do not carry: `--contact weak` on two discs ran with NaN stresses from step 0
+/// (σ_N = −λ/0); it is refused, naming nodal contact. Two bars (point faces) keep it.
+#[test]
+fn weak_contact_between_two_meshed_bodies_is_refused() {
+    for multiplier in ["p1", "p0"] {
+        let mut o = coarse(12);
+        o.options.contact = Some("weak".into());
+        o.options.contact_multiplier = Some(multiplier.into());
+        let e = run(case("cases/two_discs.toml", o).as_ref())
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(
+            e.contains("weak") && e.contains("no face") && e.contains("nodal"),
+            "{e}"
+        );
+    }
+    let mut o = Overrides::default();
+    o.options.contact = Some("weak".into());
+    let r = run(case("cases/two_bars.toml", o).as_ref()).unwrap();
+    assert!(r.rows.iter().all(|x| x.sigma_contact.is_finite()));
+}

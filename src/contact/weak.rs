@@ -138,8 +138,19 @@ impl Formulation for Weak {
     /// multipliers, `S B_T` per tangent ([`tangential`]), and Coulomb's law per multiplier: the
     /// multiplier's slip `Σ_j S_ij Δs_j` against its tangential force.
     fn setup(&self, problem: &mut Problem, solver: &str) -> Result<Box<dyn Solver>> {
-        let (rows, measure) = self.rows(problem);
         let n_c = problem.contact.len();
+        let mut on_a_face = vec![false; n_c];
+        for f in &problem.contact.faces {
+            f.rows.iter().for_each(|&i| on_a_face[i] = true);
+        }
+        if let Some(i) = on_a_face.iter().position(|&on| !on) {
+            return Err(Error::Unsupported(format!(
+                "weak contact: contact point {i} of {n_c} is on no face of Γ_C, which its \
+                 multipliers are built on (the node-to-segment rows of two bodies in 2D and 3D \
+                 carry no faces); use contact = \"nodal\""
+            )));
+        }
+        let (rows, measure) = self.rows(problem);
         if self.multiplier == Multiplier::P0 && rows.len() > n_c {
             return Err(Error::Unsupported(format!(
                 "weak contact with P0 multipliers: Γ_C has {} faces but {n_c} vertices, so the \
