@@ -138,6 +138,18 @@ impl Formulation for Weak {
     /// multipliers, `S B_T` per tangent ([`tangential`]), and Coulomb's law per multiplier: the
     /// multiplier's slip `Σ_j S_ij Δs_j` against its tangential force.
     fn setup(&self, problem: &mut Problem, solver: &str) -> Result<Box<dyn Solver>> {
+        if problem
+            .contact
+            .friction
+            .as_ref()
+            .is_some_and(|f| f.frictionless > 0)
+        {
+            return Err(Error::Unsupported(
+                "weak contact with friction on rows of which some are frictionless (a pair on a \
+                 plane): the multipliers would mix them; use contact = \"nodal\""
+                    .into(),
+            ));
+        }
         let n_c = problem.contact.len();
         let mut on_a_face = vec![false; n_c];
         for f in &problem.contact.faces {
@@ -158,18 +170,6 @@ impl Formulation for Weak {
                  stability); use contact_multiplier = \"p1\"",
                 rows.len()
             )));
-        }
-        if problem
-            .contact
-            .friction
-            .as_ref()
-            .is_some_and(|f| f.frictionless > 0)
-        {
-            return Err(Error::Unsupported(
-                "weak contact with friction on rows of which some are frictionless (a pair on a \
-                 plane): the multipliers would mix them; use contact = \"nodal\""
-                    .into(),
-            ));
         }
         let contact = &mut problem.contact;
         let nodal = linalg::rows(&contact.b_n);
