@@ -84,15 +84,18 @@ pub const THREADS_PER_CORE: usize = 4;
 /// The fewest worker threads `RAYON_NUM_THREADS` may always ask for.
 pub const MIN_THREAD_CAP: usize = 64;
 
-/// Refuses a `RAYON_NUM_THREADS` (`value`, the variable's text) that is not a whole number
-/// (rayon would silently fall back to one thread per core) or asks for more than
+/// Refuses a `RAYON_NUM_THREADS` (`value`, the variable's text) that is not empty and not a
+/// whole number (rayon would silently fall back to one thread per core) or asks for more than
 /// [`THREADS_PER_CORE`] per core of `cores`: each worker takes a stack and the report schedules
 /// a run on each (10⁴ made a one-step spring take 35 s, 10⁵ never started).
 pub fn check_threads(value: Option<&str>, cores: usize) -> crate::Result<()> {
-    let Some(text) = value else { return Ok(()) };
+    // Unset or empty: rayon's default. Parsed as rayon parses it (no trimming).
+    let Some(text) = value.filter(|t| !t.is_empty()) else {
+        return Ok(());
+    };
     let cap = (THREADS_PER_CORE * cores).max(MIN_THREAD_CAP);
     let refuse = |why: &str| crate::Error::invalid("RAYON_NUM_THREADS", text, why);
-    match text.trim().parse::<usize>() {
+    match text.parse::<usize>() {
         Err(_) => Err(refuse(
             "must be a whole number of worker threads (0: one per core)",
         )),
@@ -118,11 +121,11 @@ mod tests {
 
     #[test]
     fn worker_threads_are_whole_numbers_up_to_four_per_core() {
-        for ok in [None, Some("0"), Some("1"), Some("64"), Some(" 8 ")] {
+        for ok in [None, Some(""), Some("0"), Some("1"), Some("64")] {
             assert!(check_threads(ok, 2).is_ok(), "{ok:?}");
         }
         assert!(check_threads(Some("512"), 128).is_ok());
-        for bad in ["65", "100000", "abc", "-1", "1.5", ""] {
+        for bad in ["65", "100000", "abc", "-1", "1.5", " 8 "] {
             let e = check_threads(Some(bad), 2).unwrap_err().to_string();
             assert!(e.contains("RAYON_NUM_THREADS"), "{bad}: {e}");
         }

@@ -52,9 +52,9 @@ proptest! {
     /// Every solver of the LCP (the friction solvers without friction) agrees with the exact
     /// active set whatever the units: q and D scaled by 10^a and 10^b, a, b ∈ [−6, 6] (a step's
     /// forces are about 1e-4 on block2d). The bound, 1e-5 of the largest of ‖λ‖∞ and ‖q‖∞/‖D‖,
-    /// is De Saxcé's tolerance (1e-6 on the Alart–Curnier residual) times a margin of ten for
-    /// D's conditioning (eigenvalues in [0.1, n/3 + 0.1]). An interior point with absolute
-    /// tolerances failed on its first step at 1e-4.
+    /// is the solvers' tolerance on the residual relative to that scale, 1e-7 (De Saxcé's, the
+    /// loosest), times D's condition number (up to about 100 here). An interior point with
+    /// absolute tolerances failed on its first step at 1e-4.
     #[test]
     fn every_solver_agrees_with_the_active_set_in_any_units(
         (d, q) in lcp(), a in -6i32..=6, b in -6i32..=6,
@@ -62,9 +62,8 @@ proptest! {
         let d = d * 10f64.powi(b);
         let q: Vec<f64> = q.iter().map(|v| v * 10f64.powi(a)).collect();
         let exact = solve("active_set", &d, &q);
-        let dmax = d.amax();
         let qmax = q.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
-        let scale = exact.iter().fold(qmax / dmax, |m: f64, v| m.max(v.abs()));
+        let scale = exact.iter().fold(qmax / d.amax(), |m: f64, v| m.max(v.abs()));
         for name in SOLVERS {
             let lambda = solve(name, &d, &q);
             let err = exact
@@ -99,5 +98,23 @@ proptest! {
         }
         let exact = solve("active_set", &d, &q);
         check_solution(&d, &q, &exact, 1e-12).map_err(TestCaseError::fail)?;
+    }
+}
+
+/// Points of compliances 1e-12 apart, `D = diag(1, ε)`, `q = (−1, −0.1 ε)`, both pressed: the
+/// interior-point solvers give λ = (1, 0.1) to 1e-9 relative on each point. With one factor of
+/// units for every point Clarabel saw the second point's terms at ε, and De Saxcé's residual
+/// was 0.65 of the solution at ε = 1e-12 (one factor per point: `clarabel_qp::Units`). The
+/// other solvers' tolerances are relative to the largest force (`active_set` leaves the second
+/// point at 0, a penetration of 1e-13 against gaps of order one).
+#[test]
+fn points_of_very_different_compliance_are_solved_alike() {
+    for eps in [1e-4, 1e-8, 1e-12] {
+        let d = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![1.0, eps]));
+        for name in ["clarabel", "de_saxce"] {
+            let lambda = solve(name, &d, &[-1.0, -0.1 * eps]);
+            let err = ((lambda[0] - 1.0).abs()).max((lambda[1] - 0.1).abs() / 0.1);
+            assert!(err < 1e-9, "{name}, ε = {eps:e}: {lambda:?}");
+        }
     }
 }

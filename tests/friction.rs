@@ -463,7 +463,7 @@ fn the_3d_block_slides_as_the_2d_one() {
 /// De Saxcé's fixed point (a Clarabel second-order-cone QP per round) solves the same law as
 /// Alart–Curnier through the whole run, the stop at t = 4 included: the com velocity and the
 /// friction work agree within 1e-6 (the residual it accepts where its rounds level off, relative;
-/// measured 1.7e-8), at about 70× the cost. Its rounds are solved in units of order one: with
+/// measured 9.6e-9), at about 70× the cost. Its rounds are solved in units of order one: with
 /// Clarabel's absolute tolerances on the step's forces the fixed point used to stall at step 400
 /// (residual 1.1e-6 after 100 rounds), which had been reported as a stall at the stick–slip
 /// transition.

@@ -164,9 +164,16 @@ impl SweepSpec {
             for k in 0..count {
                 let overflow =
                     format!("level {k} would take ratio^{k} times the elements or steps");
-                levels.push(level(k).ok_or_else(|| match k {
-                    // The first refinement overflows: the ratio alone is too large.
-                    1 => Error::invalid(field("ratio"), self.ratio, &overflow),
+                levels.push(level(k).ok_or_else(|| match (k, self.elements) {
+                    // The first refinement overflows: elements × ratio.
+                    (1, Some(n)) => Error::invalid(
+                        field("ratio"),
+                        self.ratio,
+                        &format!(
+                            "{overflow}: elements × ratio = {n} × {} overflows",
+                            self.ratio
+                        ),
+                    ),
                     _ => Error::invalid(field("levels"), count, &overflow),
                 })?);
             }

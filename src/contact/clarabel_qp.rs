@@ -50,42 +50,73 @@ impl ClarabelQp {
     }
 }
 
-/// Units of order one for an interior point, whose tolerances are absolute: with `w` the largest
-/// diagonal entry of D and `f = ‖q‖∞`, `x = (f/w) x̃` turns `½ xᵀ D x + qᵀ x` into
-/// `(f²/w) (½ x̃ᵀ (D/w) x̃ + (q/f)ᵀ x̃)`; the cones are invariant under scaling. Unscaled, a
-/// step's forces of 1e-4 (block2d) met the tolerances 1e-8 of the way to the solution.
-#[derive(Debug, Clone, Copy)]
+/// Units of order one for an interior point, whose tolerances are absolute: `x = f S x̃` with
+/// `S = diag(s)`, `s_i = 1/√(largest D_jj over the rows j of row i's point)` (one factor per
+/// point, normal and tangents alike, so that the cones are kept) and `f = ‖S q‖∞`, turns
+/// `½ xᵀ D x + qᵀ x` into `f² (½ x̃ᵀ (S D S) x̃ + (S q / f)ᵀ x̃)`, whose diagonal is at most 1
+/// (1 on each point's largest); the multiplier of the
+/// cone constraint (the gap, for the LCP) is `g = f S⁻¹ z̃`. Unscaled, a step's forces of 1e-4
+/// (block2d) met Clarabel's tolerances 1e-8 of the way to the solution; with one factor for
+/// every point, points of compliances 1e-6 apart failed.
+#[derive(Debug, Clone)]
 pub(crate) struct Units {
-    /// The largest diagonal entry of D.
-    pub w: f64,
-    /// ‖q‖∞.
-    pub f: f64,
+    /// `s_i` per row.
+    s: Vec<f64>,
+    /// `‖S q‖∞`.
+    f: f64,
 }
 
 impl Units {
-    /// The units of D (its diagonal `diag`) and `q`; `None` when q = 0, which x = 0 solves.
-    pub fn new(diag: impl Iterator<Item = f64>, q: &[f64]) -> Option<Self> {
-        let w = diag.fold(0.0, f64::max);
-        let f = q.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
-        (f > 0.0 && w > 0.0).then_some(Self { w, f })
+    /// The units of `D` and `q` for points of `dim` rows each (the first the normal one);
+    /// `None` when q = 0, which x = 0 solves. A normal diagonal entry that is not positive is
+    /// refused (D is not positive definite).
+    pub fn new(d: &DMatrix<f64>, q: &[f64], dim: usize) -> Result<Option<Self>, SolverError> {
+        let mut s = Vec::with_capacity(q.len());
+        for p in 0..q.len() / dim {
+            let pivot = d[(p * dim, p * dim)];
+            if !(pivot > 0.0 && pivot.is_finite()) {
+                return Err(SolverError::NotPositiveDefinite { pivot });
+            }
+            let largest = (p * dim..(p + 1) * dim).fold(pivot, |m, i| m.max(d[(i, i)]));
+            s.extend(std::iter::repeat_n(1.0 / largest.sqrt(), dim));
+        }
+        let f = q
+            .iter()
+            .zip(&s)
+            .fold(0.0, |m: f64, (v, s)| m.max((v * s).abs()));
+        Ok((f > 0.0).then_some(Self { s, f }))
     }
 
-    /// x from the scaled x̃.
+    /// `S D S`.
+    pub fn matrix(&self, d: &DMatrix<f64>) -> DMatrix<f64> {
+        DMatrix::from_fn(d.nrows(), d.ncols(), |i, j| {
+            self.s[i] * d[(i, j)] * self.s[j]
+        })
+    }
+
+    /// `S q / f`.
+    pub fn load(&self, q: &[f64]) -> Vec<f64> {
+        q.iter().zip(&self.s).map(|(v, s)| v * s / self.f).collect()
+    }
+
+    /// `x = f S x̃`.
     pub fn unscale(&self, x: &[f64]) -> Vec<f64> {
-        x.iter().map(|v| v * self.f / self.w).collect()
+        x.iter().zip(&self.s).map(|(v, s)| v * s * self.f).collect()
+    }
+
+    /// The cone's multiplier `g = f S⁻¹ z̃` (the gap, for the LCP).
+    pub fn gap(&self, z: &[f64]) -> Vec<f64> {
+        z.iter().zip(&self.s).map(|(v, s)| v * self.f / s).collect()
     }
 }
 
-/// Upper triangle of `D` restricted to `index`, as a Clarabel CSC matrix.
-fn upper_block(d: &DMatrix<f64>, index: &[usize]) -> CscMatrix<f64> {
-    let k = index.len();
-    let mut colptr = Vec::with_capacity(k + 1);
-    let mut rowval = Vec::with_capacity(k * (k + 1) / 2);
-    let mut nzval = Vec::with_capacity(k * (k + 1) / 2);
-    colptr.push(0);
-    for (b, &j) in index.iter().enumerate() {
-        for (a, &i) in index.iter().enumerate().take(b + 1) {
-            rowval.push(a);
+/// The upper triangle of `d` as a Clarabel CSC matrix.
+pub(crate) fn upper(d: &DMatrix<f64>) -> CscMatrix<f64> {
+    let k = d.nrows();
+    let (mut colptr, mut rowval, mut nzval) = (vec![0], Vec::new(), Vec::new());
+    for j in 0..k {
+        for i in 0..=j {
+            rowval.push(i);
             nzval.push(d[(i, j)]);
         }
         colptr.push(rowval.len());
@@ -138,12 +169,11 @@ impl Solver for ClarabelQp {
         }
         let k = index.len();
         let qs: Vec<f64> = index.iter().map(|&i| q[i]).collect();
-        let Some(units) = Units::new(index.iter().map(|&i| d[(i, i)]), &qs) else {
+        let dk = DMatrix::from_fn(k, k, |a, b| d[(index[a], index[b])]);
+        let Some(units) = Units::new(&dk, &qs, 1)? else {
             return Ok(SolveInfo::default());
         };
-        let qs: Vec<f64> = qs.iter().map(|v| v / units.f).collect();
-        let mut p = upper_block(d, &index);
-        p.nzval.iter_mut().for_each(|v| *v /= units.w);
+        let (p, qs) = (upper(&units.matrix(&dk)), units.load(&qs));
         let mut a = CscMatrix::identity(k);
         a.negate();
         let b = vec![0.0; k];
@@ -163,12 +193,15 @@ impl Solver for ClarabelQp {
             });
         }
         // The dual variable of `λ ≥ 0` is the gap; a point is active when its pressure dominates.
-        let x = units.unscale(&solver.solution.x);
+        let (x, gap) = (
+            units.unscale(&solver.solution.x),
+            units.gap(&solver.solution.z),
+        );
         let guess: Vec<bool> = index
             .iter()
             .zip(&x)
-            .zip(&solver.solution.z)
-            .map(|((&i, &x), &g)| x * d[(i, i)] > g * units.f)
+            .zip(&gap)
+            .map(|((&i, &x), &g)| x * d[(i, i)] > g)
             .collect();
         let polished = polish(d, q, &index, &guess);
         let active = guess.iter().filter(|a| **a).count();

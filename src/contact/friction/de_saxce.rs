@@ -10,19 +10,21 @@
 //!
 //! whose KKT conditions are `C*_μ ∋ W r + q + s e_N ⊥ r ∈ C_μ`: in Clarabel's form `A = −D`,
 //! `D = diag(μ, 1, …)`, `b = 0`, cone `SecondOrderConeT(d)` with the cone variable t first
-//! (`clarabel-0.11.1/src/solver/core/cones/socone.rs` line 105), in units of order one
-//! ([`Units`]; unscaled, every case failed at its first contact step). A round that Clarabel
-//! does not solve to 1e-12 is solved again at 1e-11, then 1e-10 ([`IP_TOLERANCES`]). At a fixed
-//! point s = μ‖u_T‖ and û is De Saxcé's: the law holds exactly. The outer loop stops when the
-//! Alart–Curnier residual ([`super::alart_curnier`]) is below [`TOLERANCE`] · scale (looser than
-//! the other solvers' 1e-11), or, once [`STAGNANT`] rounds have not improved it, below
-//! [`FLOOR`] · scale: the square root of the interior point's tolerance, its accuracy on a
-//! degenerate pair (a point with no gap and no force, or at the cone's apex; oblique3d's rounds
-//! level off at 1.0e-7 at step 31). Otherwise it fails, and after [`MAX_FIXED_POINT`] rounds:
-//! the fixed point is not guaranteed to converge (the problem is not convex).
+//! (`clarabel-0.11.1/src/solver/core/cones/socone.rs` line 105), in units of order one per
+//! point ([`Units`]; unscaled, every case failed at its first contact step). A round that
+//! Clarabel does not solve to 1e-12 is solved again at 1e-11, then 1e-10 ([`IP_TOLERANCES`]).
+//! At a fixed point s = μ‖u_T‖ and û is De Saxcé's: the law holds exactly. The outer loop stops
+//! when the Alart–Curnier residual ([`super::alart_curnier`]) is below [`TOLERANCE`] · scale
+//! (looser than the other solvers' 1e-11). Once [`STAGNANT`] rounds have not improved it by 1 %,
+//! or after [`MAX_FIXED_POINT`] rounds, its best iterate is accepted below [`FLOOR`] · scale, the square root of the interior point's
+//! tolerance, its accuracy on a degenerate pair (a point with no gap and no force, or at the
+//! cone's apex; one step of oblique3d and one of slide3d level off at 1.0e-7 and 1.2e-7), and
+//! it fails otherwise: the fixed point is not guaranteed to converge (the problem is not
+//! convex). Without friction every round is the LCP's QP: it is solved once, as `clarabel`
+//! solves it ([`signorini`]).
 
 use super::{Coulomb, Local};
-use crate::contact::clarabel_qp::Units;
+use crate::contact::clarabel_qp::{upper, ClarabelQp, Units};
 use crate::contact::{SolveInfo, Solver};
 use crate::error::SolverError;
 use clarabel::algebra::CscMatrix;
@@ -84,11 +86,10 @@ impl DeSaxce {
         for (pt, si) in s.iter().enumerate() {
             q[pt * dim] += si;
         }
-        let Some(units) = Units::new((0..k).map(|a| loc.w[(a, a)]), &q) else {
+        let Some(units) = Units::new(&loc.w, &q, dim)? else {
             return Ok((DVector::zeros(k), 0));
         };
-        q.iter_mut().for_each(|v| *v /= units.f);
-        let p = upper(&(&loc.w / units.w));
+        let (p, q) = (upper(&units.matrix(&loc.w)), units.load(&q));
         // A = −D (diagonal), b = 0: the slack is D r.
         let diag: Vec<f64> = (0..k)
             .map(|a| {
@@ -119,6 +120,7 @@ impl DeSaxce {
             solver.solve();
             iterations += solver.info.iterations as usize;
             let status = solver.solution.status;
+            // Almost solved at a tighter rung is kept: the outer loop's residual judges it.
             if matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
                 let r = DVector::from_vec(units.unscale(&solver.solution.x));
                 return Ok((r, iterations));
@@ -131,18 +133,19 @@ impl DeSaxce {
     }
 }
 
-/// The upper triangle of W as a Clarabel CSC matrix.
-fn upper(w: &DMatrix<f64>) -> CscMatrix<f64> {
-    let k = w.nrows();
-    let (mut colptr, mut rowval, mut nzval) = (vec![0], Vec::new(), Vec::new());
-    for j in 0..k {
-        for i in 0..=j {
-            rowval.push(i);
-            nzval.push(w[(i, j)]);
-        }
-        colptr.push(rowval.len());
-    }
-    CscMatrix::new(k, k, colptr, rowval, nzval)
+/// Without friction (the shifts 0) De Saxcé's relaxation is the LCP's convex QP on the `n`
+/// normal rows, solved once as [`ClarabelQp`] does, with its polish on the active set: the
+/// interior point alone leaves points with no gap and no force at the square root of its
+/// tolerance. The tangential rows (μ = 0) get no force.
+fn signorini(
+    d: &DMatrix<f64>,
+    q: &[f64],
+    lambda: &mut [f64],
+    n: usize,
+) -> Result<SolveInfo, SolverError> {
+    lambda[n..].fill(0.0);
+    let normal = d.view((0, 0), (n, n)).into_owned();
+    ClarabelQp::new().solve(&normal, &q[..n], &mut lambda[..n])
 }
 
 /// `s_i = μ ‖u_{T,i}‖` at `r`.
@@ -171,44 +174,47 @@ impl Solver for DeSaxce {
         q: &[f64],
         lambda: &mut [f64],
     ) -> Result<SolveInfo, SolverError> {
+        if self.law.is_signorini() {
+            return signorini(d, q, lambda, self.law.points);
+        }
         let (loc, mut r) = Local::gather(&self.law, d, q, lambda, None)?;
         if loc.points.is_empty() {
             lambda.fill(0.0);
             return Ok(SolveInfo::default());
         }
-        let (mut iterations, mut norm, mut best, mut stagnant) =
-            (0, f64::INFINITY, f64::INFINITY, 0);
-        for round in 1..=MAX_FIXED_POINT {
+        let (mut iterations, mut best, mut stagnant, mut done) =
+            (0, (f64::INFINITY, r.clone()), 0, 0);
+        while done < MAX_FIXED_POINT && stagnant < STAGNANT {
             let (next, its) = self.round(&loc, &shifts(&loc, &r))?;
-            iterations += its;
-            r = next;
-            let done;
-            (norm, done) = loc.converged(&r, TOLERANCE);
-            if done {
+            (iterations, done, r) = (iterations + its, done + 1, next);
+            let (norm, converged) = loc.converged(&r, TOLERANCE);
+            if converged {
                 return Ok(loc.finish(&self.law, &r, lambda, iterations));
             }
-            (best, stagnant) = if norm < 0.99 * best {
-                (norm, 0)
+            stagnant = if norm < 0.99 * best.0 {
+                0
             } else {
-                (best, stagnant + 1)
+                stagnant + 1
             };
-            if stagnant == STAGNANT {
-                if loc.converged(&r, FLOOR).1 {
-                    return Ok(loc.finish(&self.law, &r, lambda, iterations));
-                }
-                return Err(loc.not_converged(
-                    "de_saxce",
-                    &r,
-                    (norm, FLOOR),
-                    format!("{round} fixed-point rounds (the last {STAGNANT} without progress)"),
-                ));
+            if norm < best.0 {
+                best = (norm, r.clone());
             }
         }
+        // The rounds stopped improving, or ran out: the best within the interior point's floor.
+        let (norm, r) = best;
+        if loc.converged(&r, FLOOR).1 {
+            return Ok(loc.finish(&self.law, &r, lambda, iterations));
+        }
+        let why = if stagnant == STAGNANT {
+            format!(" (the last {STAGNANT} without progress)")
+        } else {
+            String::new()
+        };
         Err(loc.not_converged(
             "de_saxce",
             &r,
-            (norm, TOLERANCE),
-            format!("{MAX_FIXED_POINT} fixed-point rounds"),
+            (norm, FLOOR),
+            format!("{done} fixed-point rounds{why}"),
         ))
     }
 }
