@@ -342,3 +342,25 @@ fn without_friction_the_top_block_keeps_v0() {
         .friction
         .is_none());
 }
+
+/// Mass elimination takes the mass of every element touching Γ_C: the 3D lower block (two
+/// layers of cells, one on the plane, one under the upper block) keeps none, and the step
+/// matrix is singular on its rigid motions. It failed in the factorisation with a non-positive
+/// pivot; it is refused naming the space and what to change.
+#[test]
+fn a_body_left_without_mass_is_refused() {
+    let o = dyncontact::cases::Overrides {
+        space: Some("mass_elimination".into()),
+        ..Default::default()
+    };
+    let case =
+        dyncontact::cases::load(std::path::Path::new("cases/slide_on_block3d.toml"), &o).unwrap();
+    let Err(e) = dyncontact::study::run::run(case.as_ref()) else {
+        panic!("a body without mass ran");
+    };
+    let e = e.to_string();
+    assert!(
+        e.contains("mass_elimination") && e.contains("without mass"),
+        "{e}"
+    );
+}
