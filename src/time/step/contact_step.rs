@@ -130,6 +130,9 @@ impl ContactStep {
         check_stiffness_resolved(problem, k, coefs)?;
         let signorini = solvers.contact.signorini();
         let compliance = solvers.contact.compliance();
+        // The cg step solves Signorini's law by its own active set: another solver of the LCP
+        // (clarabel, de_saxce, …) would be ignored, so auto takes the direct step for it.
+        let own = solvers.contact.name() == "active_set";
         let cg = match solvers.linear {
             LinearSolver::Direct => false,
             LinearSolver::Cg if !signorini && compliance.is_none() => {
@@ -139,9 +142,16 @@ impl ContactStep {
                     solvers.contact.name()
                 )))
             }
+            LinearSolver::Cg if compliance.is_none() && !own => {
+                return Err(Error::Unsupported(format!(
+                    "linear solver cg enforces Signorini's law by its own active set: contact \
+                     solver {} would be ignored (use direct, or active_set)",
+                    solvers.contact.name()
+                )))
+            }
             LinearSolver::Cg => true,
             LinearSolver::Auto if compliance.is_some() => compliant_cg_pays(problem, k),
-            LinearSolver::Auto => signorini && cg_pays(problem, k),
+            LinearSolver::Auto => signorini && own && cg_pays(problem, k),
         };
         Ok(if let (true, Some(eps)) = (cg, compliance) {
             Self::Compliant(CompliantStep::new(problem, k, coefs, c, eps)?)
