@@ -54,8 +54,8 @@ impl ClarabelQp {
 /// `S = diag(s)`, `s_i = 1/√(largest D_jj over the rows j of row i's point)` (one factor per
 /// point, normal and tangents alike, so that the cones are kept) and `f = ‖S q‖∞`, turns
 /// `½ xᵀ D x + qᵀ x` into `f² (½ x̃ᵀ (S D S) x̃ + (S q / f)ᵀ x̃)`, whose diagonal is at most 1
-/// (1 on each point's largest); the multiplier of the
-/// cone constraint (the gap, for the LCP) is `g = f S⁻¹ z̃`. Unscaled, a step's forces of 1e-4
+/// (1 on each point's largest); the multiplier of the cone constraint (the gap, for the LCP)
+/// is `g = f S⁻¹ z̃`. Unscaled, a step's forces of 1e-4
 /// (block2d) met Clarabel's tolerances 1e-8 of the way to the solution; with one factor for
 /// every point, points of compliances 1e-6 apart failed.
 #[derive(Debug, Clone)]

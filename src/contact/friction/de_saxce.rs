@@ -15,13 +15,13 @@
 //! Clarabel does not solve to 1e-12 is solved again at 1e-11, then 1e-10 ([`IP_TOLERANCES`]).
 //! At a fixed point s = μ‖u_T‖ and û is De Saxcé's: the law holds exactly. The outer loop stops
 //! when the Alart–Curnier residual ([`super::alart_curnier`]) is below [`TOLERANCE`] · scale
-//! (looser than the other solvers' 1e-11). Once [`STAGNANT`] rounds have not improved it by 1 %,
-//! or after [`MAX_FIXED_POINT`] rounds, its best iterate is accepted below [`FLOOR`] · scale, the square root of the interior point's
-//! tolerance, its accuracy on a degenerate pair (a point with no gap and no force, or at the
-//! cone's apex; one step of oblique3d and one of slide3d level off at 1.0e-7 and 1.2e-7), and
-//! it fails otherwise: the fixed point is not guaranteed to converge (the problem is not
-//! convex). Without friction every round is the LCP's QP: it is solved once, as `clarabel`
-//! solves it ([`signorini`]).
+//! (looser than the other solvers' 1e-11). Once [`STAGNANT`] rounds have not improved it by
+//! 1 %, or after [`MAX_FIXED_POINT`] rounds, its best iterate is accepted below [`FLOOR`] ·
+//! scale, the square root of the interior point's tolerance, its accuracy on a degenerate pair
+//! (a point with no gap and no force, or at the cone's apex; one step of oblique3d and one of
+//! slide3d level off at 1.0e-7 and 1.2e-7), and it fails otherwise: the fixed point is not
+//! guaranteed to converge (the problem is not convex). Without friction every round is the
+//! LCP's QP: it is solved once, as `clarabel` solves it ([`DeSaxce::signorini`]).
 
 use super::{Coulomb, Local};
 use crate::contact::clarabel_qp::{upper, ClarabelQp, Units};
@@ -56,6 +56,8 @@ pub const IP_TOLERANCES: [f64; 3] = [1e-12, 1e-11, 1e-10];
 pub struct DeSaxce {
     law: Coulomb,
     settings: Vec<DefaultSettings<f64>>,
+    /// The LCP's solver, without friction.
+    lcp: ClarabelQp,
 }
 
 impl DeSaxce {
@@ -75,7 +77,11 @@ impl DeSaxce {
                     .expect("constant Clarabel settings are valid")
             })
             .collect();
-        Self { law, settings }
+        Self {
+            law,
+            settings,
+            lcp: ClarabelQp::new(),
+        }
     }
 
     /// One convex round: the reaction for the shifts `s` (per point), and the interior point's
@@ -131,21 +137,22 @@ impl DeSaxce {
             status: statuses.join(", then "),
         })
     }
-}
 
-/// Without friction (the shifts 0) De Saxcé's relaxation is the LCP's convex QP on the `n`
-/// normal rows, solved once as [`ClarabelQp`] does, with its polish on the active set: the
-/// interior point alone leaves points with no gap and no force at the square root of its
-/// tolerance. The tangential rows (μ = 0) get no force.
-fn signorini(
-    d: &DMatrix<f64>,
-    q: &[f64],
-    lambda: &mut [f64],
-    n: usize,
-) -> Result<SolveInfo, SolverError> {
-    lambda[n..].fill(0.0);
-    let normal = d.view((0, 0), (n, n)).into_owned();
-    ClarabelQp::new().solve(&normal, &q[..n], &mut lambda[..n])
+    /// Without friction (the shifts 0) De Saxcé's relaxation is the LCP's convex QP on the
+    /// normal rows, solved once as [`ClarabelQp`] does, with its polish on the active set: the
+    /// interior point alone leaves points with no gap and no force at the square root of its
+    /// tolerance. The tangential rows (μ = 0) get no force.
+    fn signorini(
+        &mut self,
+        d: &DMatrix<f64>,
+        q: &[f64],
+        lambda: &mut [f64],
+    ) -> Result<SolveInfo, SolverError> {
+        let n = self.law.points;
+        lambda[n..].fill(0.0);
+        let normal = d.view((0, 0), (n, n)).into_owned();
+        self.lcp.solve(&normal, &q[..n], &mut lambda[..n])
+    }
 }
 
 /// `s_i = μ ‖u_{T,i}‖` at `r`.
@@ -175,7 +182,7 @@ impl Solver for DeSaxce {
         lambda: &mut [f64],
     ) -> Result<SolveInfo, SolverError> {
         if self.law.is_signorini() {
-            return signorini(d, q, lambda, self.law.points);
+            return self.signorini(d, q, lambda);
         }
         let (loc, mut r) = Local::gather(&self.law, d, q, lambda, None)?;
         if loc.points.is_empty() {
