@@ -51,12 +51,12 @@ pub fn critical_time_step(
     })
 }
 
-/// Refuses `dt` above `dt_max` (already scaled by [`CFL_SAFETY`]) for `scheme`, naming the limit
+/// Refuses `run.dt` above `dt_max` (already scaled by [`CFL_SAFETY`]) for `scheme`, naming the limit
 /// and what sets it (`of`: "this mesh and mass", …).
 pub fn check_time_step(scheme: &str, dt: f64, dt_max: f64, of: &str) -> Result<()> {
     if dt > dt_max {
         return Err(Error::invalid(
-            "dt",
+            "run.dt",
             dt,
             &format!(
                 "unstable time step: {scheme} needs dt ≤ {CFL_SAFETY}·2/ω_max = {dt_max:.6e} \
