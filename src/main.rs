@@ -249,9 +249,8 @@ fn sweep(
 
 fn main_result(cli: Cli) -> Result<()> {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let threads = std::env::var_os("RAYON_NUM_THREADS");
     dyncontact::util::check_threads(
-        threads.as_ref().map(|t| t.to_string_lossy()).as_deref(),
+        |name| std::env::var_os(name).map(|t| t.to_string_lossy().into_owned()),
         cores,
     )?;
     match cli.command {

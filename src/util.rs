@@ -84,17 +84,31 @@ pub const THREADS_PER_CORE: usize = 4;
 /// The fewest worker threads `RAYON_NUM_THREADS` may always ask for.
 pub const MIN_THREAD_CAP: usize = 64;
 
-/// Refuses a `RAYON_NUM_THREADS` (`value`, the variable's text) that is not empty and not a
-/// whole number (rayon would silently fall back to one thread per core) or asks for more than
-/// [`THREADS_PER_CORE`] per core of `cores`: each worker takes a stack and the report schedules
-/// a run on each (10⁴ made a one-step spring take 35 s, 10⁵ never started).
-pub fn check_threads(value: Option<&str>, cores: usize) -> crate::Result<()> {
-    // Unset or empty: rayon's default. Parsed as rayon parses it (no trimming).
-    let Some(text) = value.filter(|t| !t.is_empty()) else {
-        return Ok(());
-    };
+/// The environment variables rayon sizes its pool from, in the order it reads them: the
+/// second (deprecated) only when the first is unset, empty or not a whole number.
+pub const THREAD_VARIABLES: [&str; 2] = ["RAYON_NUM_THREADS", "RAYON_RS_NUM_CPUS"];
+
+/// Refuses the worker-thread count rayon would take from `lookup` (the environment): each of
+/// [`THREAD_VARIABLES`] that rayon reads, when not empty, must be a whole number (rayon would
+/// silently fall back to one thread per core) of at most [`THREADS_PER_CORE`] per core of
+/// `cores`: each worker takes a stack and the report schedules a run on each (10⁴ made a
+/// one-step spring take 35 s, 10⁵ never started). The error names the variable.
+pub fn check_threads(lookup: impl Fn(&str) -> Option<String>, cores: usize) -> crate::Result<()> {
+    for name in THREAD_VARIABLES {
+        // Unset or empty: the next variable, then rayon's default. Parsed as rayon parses it
+        // (no trimming); a valid first variable is the one rayon takes.
+        let Some(text) = lookup(name).filter(|t| !t.is_empty()) else {
+            continue;
+        };
+        return check_thread_count(name, &text, cores);
+    }
+    Ok(())
+}
+
+/// One variable of [`check_threads`]: `text` a whole number up to the cap.
+fn check_thread_count(name: &str, text: &str, cores: usize) -> crate::Result<()> {
     let cap = (THREADS_PER_CORE * cores).max(MIN_THREAD_CAP);
-    let refuse = |why: &str| crate::Error::invalid("RAYON_NUM_THREADS", text, why);
+    let refuse = |why: &str| crate::Error::invalid(name, text, why);
     match text.parse::<usize>() {
         Err(_) => Err(refuse(
             "must be a whole number of worker threads (0: one per core)",
@@ -119,16 +133,45 @@ pub fn peak_memory() -> Option<f64> {
 mod tests {
     use super::*;
 
+    /// An environment of `(name, value)` pairs for [`check_threads`].
+    fn env(pairs: &[(&str, &str)]) -> impl Fn(&str) -> Option<String> {
+        let pairs: Vec<(String, String)> = pairs
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        move |name| {
+            pairs
+                .iter()
+                .find(|(k, _)| k == name)
+                .map(|(_, v)| v.clone())
+        }
+    }
+
     #[test]
     fn worker_threads_are_whole_numbers_up_to_four_per_core() {
-        for ok in [None, Some(""), Some("0"), Some("1"), Some("64")] {
-            assert!(check_threads(ok, 2).is_ok(), "{ok:?}");
+        for name in THREAD_VARIABLES {
+            for ok in ["", "0", "1", "64"] {
+                assert!(check_threads(env(&[(name, ok)]), 2).is_ok(), "{name}={ok}");
+            }
+            assert!(check_threads(env(&[(name, "512")]), 128).is_ok());
+            for bad in ["65", "100000", "abc", "-1", "1.5", " 8 "] {
+                let e = check_threads(env(&[(name, bad)]), 2)
+                    .unwrap_err()
+                    .to_string();
+                assert!(e.contains(name), "{name}={bad}: {e}");
+            }
         }
-        assert!(check_threads(Some("512"), 128).is_ok());
-        for bad in ["65", "100000", "abc", "-1", "1.5", " 8 "] {
-            let e = check_threads(Some(bad), 2).unwrap_err().to_string();
-            assert!(e.contains("RAYON_NUM_THREADS"), "{bad}: {e}");
-        }
+        assert!(check_threads(env(&[]), 2).is_ok());
+    }
+
+    /// rayon reads the deprecated variable only when the first is unset, empty or unparsable
+    /// (and the last is refused before it gets there).
+    #[test]
+    fn the_deprecated_variable_counts_only_where_rayon_reads_it() {
+        let (first, second) = (THREAD_VARIABLES[0], THREAD_VARIABLES[1]);
+        assert!(check_threads(env(&[(first, "2"), (second, "100000")]), 2).is_ok());
+        let e = check_threads(env(&[(first, ""), (second, "100000")]), 2).unwrap_err();
+        assert!(e.to_string().contains(second), "{e}");
     }
 
     #[test]
