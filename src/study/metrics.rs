@@ -487,7 +487,10 @@ fn first_impact(rows: &[Row]) -> (Option<f64>, Option<f64>) {
     let release = rows[first..]
         .iter()
         .position(|r| r.sigma_contact == 0.0 && r.gap > 0.0);
-    let e = release.map(|k| -rows[first + k].v_contact / before.v_contact);
+    // Only an approach has a restitution: a body that touches at rest (a slide) has none.
+    let e = release
+        .filter(|_| before.v_contact < 0.0)
+        .map(|k| -rows[first + k].v_contact / before.v_contact);
     (t_hat, e)
 }
 
