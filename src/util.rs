@@ -37,13 +37,61 @@ pub fn content_hash(bytes: &[u8]) -> String {
     format!("{h:016x}")
 }
 
-/// Memory the system can still give (`MemAvailable` of `/proc/meminfo`, bytes); `None` where
-/// it cannot be read.
+/// Memory this process can still allocate (bytes): the least of what the system can give
+/// (`MemAvailable` of `/proc/meminfo`), what its address-space limit leaves (`ulimit -v`: the
+/// soft `Max address space` of `/proc/self/limits` less `VmSize`) and what its memory cgroup
+/// leaves (a batch scheduler's limit: `memory.max` less `memory.current`, or cgroup v1's
+/// `memory.limit_in_bytes` less `memory.usage_in_bytes`, the usage without the reclaimable
+/// file cache, `inactive_file` of `memory.stat`); `None` where none can be read.
 pub fn available_memory() -> Option<f64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024.0)
+    let system = proc_field("/proc/meminfo", "MemAvailable:").map(|kib| kib * 1024.0);
+    let address_space = address_space_limit()
+        .zip(proc_field("/proc/self/status", "VmSize:"))
+        .map(|(limit, kib)| (limit - kib * 1024.0).max(0.0));
+    let cgroup = [
+        ("", "memory.max", "memory.current", "inactive_file "),
+        (
+            "memory/",
+            "memory.limit_in_bytes",
+            "memory.usage_in_bytes",
+            "total_inactive_file ",
+        ),
+    ]
+    .into_iter()
+    .filter_map(|(dir, limit, usage, cache)| {
+        let path = |f: &str| format!("/sys/fs/cgroup/{dir}{f}");
+        let cache = proc_field(&path("memory.stat"), cache).unwrap_or(0.0);
+        Some((number_in(&path(limit))? - number_in(&path(usage))? + cache).max(0.0))
+    })
+    .reduce(f64::min);
+    [system, address_space, cgroup]
+        .into_iter()
+        .flatten()
+        .reduce(f64::min)
+}
+
+/// The number after `key` on its line of the file `path` (kiB in `/proc`'s, bytes in a
+/// cgroup's `memory.stat`).
+fn proc_field(path: &str, key: &str) -> Option<f64> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let line = text.lines().find(|l| l.starts_with(key))?;
+    line[key.len()..].split_whitespace().next()?.parse().ok()
+}
+
+/// The soft `Max address space` of this process (bytes); `None` when unlimited or unreadable.
+fn address_space_limit() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/self/limits").ok()?;
+    let line = text.lines().find(|l| l.starts_with("Max address space"))?;
+    line["Max address space".len()..]
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
+/// The number a whole file holds (a cgroup's limit or usage); `None` for `max` or unreadable.
+fn number_in(path: &str) -> Option<f64> {
+    std::fs::read_to_string(path).ok()?.trim().parse().ok()
 }
 
 /// Refuses, before anything is allocated, a size `value` of `field` whose estimated memory
@@ -54,7 +102,8 @@ pub fn check_memory(field: &str, value: impl std::fmt::Debug, bytes: f64) -> cra
             field,
             value,
             &format!(
-                "the run would need about {:.1} GiB, more than the {:.1} GiB available",
+                "the run would need about {:.1} GiB, more than the {:.1} GiB available \
+                 (free memory, ulimit -v and the memory cgroup's limit)",
                 bytes / GIB,
                 avail / GIB
             ),
@@ -123,10 +172,7 @@ fn check_thread_count(name: &str, text: &str, cores: usize) -> crate::Result<()>
 
 /// Peak resident memory of this process so far (`VmHWM` of `/proc/self/status`, bytes).
 pub fn peak_memory() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024.0)
+    proc_field("/proc/self/status", "VmHWM:").map(|kib| kib * 1024.0)
 }
 
 #[cfg(test)]

@@ -482,6 +482,30 @@ fn a_final_time_too_far_is_blamed_on_t_end() {
     }
 }
 
+/// The memory estimate is held against the process's own limit too (`ulimit -v`, as a batch
+/// scheduler sets it), not only the machine's free memory: a spring of 1.6·10⁷ steps (about
+/// 3 GiB of time series) under a 2 GB address-space limit was an allocation failure, an abort
+/// with status 134 (found by a hostile-input round, with 1.3·10⁸ steps under 8 GB).
+#[test]
+fn a_run_beyond_the_process_memory_limit_is_refused_before_it_allocates() {
+    if !Path::new("/proc/self/limits").exists() {
+        return; // no limits to read: the estimate is held against the free memory only
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let script = format!(
+        "ulimit -v 2000000 && exec {} run cases/spring_mass.toml --dt 6.103515625e-7 --out {}",
+        env!("CARGO_BIN_EXE_dyncontact"),
+        o.display()
+    );
+    let out = Command::new("sh")
+        .args(["-c", &script])
+        .output()
+        .expect("sh runs");
+    assert_clear_error(&out, &["`run.t_end`", "GiB", "ulimit -v"]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+}
+
 #[test]
 fn options_the_run_would_ignore_are_refused_naming_the_flag_or_field() {
     let dir = tempfile::tempdir().unwrap();
