@@ -487,9 +487,11 @@ fn first_impact(rows: &[Row]) -> (Option<f64>, Option<f64>) {
     let release = rows[first..]
         .iter()
         .position(|r| r.sigma_contact == 0.0 && r.gap > 0.0);
-    // Only an approach has a restitution: a body that touches at rest (a slide) has none.
+    // A body that touches at rest (a slide: v = 0 before the first contact) has no
+    // restitution. Not `v < 0`: the probe's sign is the case's (the bar's massless end under mass
+    // redistribution even reads +½ while its gap closes).
     let e = release
-        .filter(|_| before.v_contact < 0.0)
+        .filter(|_| before.v_contact != 0.0)
         .map(|k| -rows[first + k].v_contact / before.v_contact);
     (t_hat, e)
 }
