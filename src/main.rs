@@ -216,7 +216,7 @@ fn sweep(
         all = jobs::shard(all, s)?;
     }
     dyncontact::util::output_dir(out, "--out")?;
-    eprintln!("running {} runs", all.len());
+    eprintln!("running {}", dyncontact::util::count(all.len(), "run"));
     let journal = shard.map_or("journal.csv".to_string(), |(i, n)| {
         format!("journal-{i}-of-{n}.csv")
     });
@@ -235,9 +235,9 @@ fn sweep(
         .filter(|r| r.status != jobs::Status::Ok)
         .count();
     say!(
-        "wrote {}/{name} ({} runs, {failed} not ok)",
+        "wrote {}/{name} ({}, {failed} not ok)",
         out.display(),
-        records.len()
+        dyncontact::util::count(records.len(), "run")
     );
     if shard.is_none() {
         let orders = orders::orders(&records);
@@ -281,8 +281,8 @@ fn main_result(cli: Cli) -> Result<()> {
             };
             let records = dyncontact::report::report(&cases, &out, &opts)?;
             say!(
-                "{} runs; wrote {}/index.md and index.html",
-                records.len(),
+                "{}; wrote {}/index.md and index.html",
+                dyncontact::util::count(records.len(), "run"),
                 out.display()
             );
             Ok(())
@@ -290,8 +290,8 @@ fn main_result(cli: Cli) -> Result<()> {
         Command::Merge { records, out } => {
             let records = dyncontact::report::merge(&records, &out)?;
             say!(
-                "{} runs merged; wrote {}/index.md and index.html",
-                records.len(),
+                "{} merged; wrote {}/index.md and index.html",
+                dyncontact::util::count(records.len(), "run"),
                 out.display()
             );
             Ok(())
@@ -329,6 +329,9 @@ fn main_result(cli: Cli) -> Result<()> {
             let path = case;
             let case = cases::load(&path, &overrides)?;
             dyncontact::util::output_dir(&out, "--out")?;
+            if let Some(dir) = &vtu {
+                dyncontact::util::output_dir(dir, "--vtu")?;
+            }
             let fields = vtu.map(|dir| run::FieldOutput {
                 dir,
                 every: vtu_every as usize,

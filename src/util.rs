@@ -114,16 +114,56 @@ pub fn check_memory(field: &str, value: impl std::fmt::Debug, bytes: f64) -> cra
 
 const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 
+/// Refuses a `value` of `field` that cannot name a file of its own: names of sweeps and cases
+/// become parts of the report's file names (`<case>_<sweep>_orders.png`), so they are 1 to 64
+/// ASCII letters, digits, `_`, `-` or `.`, not starting with `.` (no `/`, no `..`).
+pub fn check_name(field: &str, value: &str) -> crate::Result<()> {
+    let ok = (1..=64).contains(&value.len())
+        && !value.starts_with('.')
+        && value
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'));
+    if ok {
+        Ok(())
+    } else {
+        Err(crate::Error::invalid(
+            field,
+            value,
+            "1 to 64 ASCII letters, digits, `_`, `-` or `.`, not starting with `.`: it becomes \
+             part of file names",
+        ))
+    }
+}
+
+/// `n` and the noun, plural unless `n` is 1: `count(1, "run")` is `1 run`.
+pub fn count(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+}
+
+/// The first item of `items` equal to an earlier one.
+pub fn first_repeated<T: PartialEq>(items: &[T]) -> Option<&T> {
+    items
+        .iter()
+        .enumerate()
+        .find(|(i, x)| items[..*i].contains(x))
+        .map(|(_, x)| x)
+}
+
 /// Creates the output directory `dir` given by the flag `flag` (`--out`), refusing a path that is
-/// not a directory or cannot be created, by the flag's name: called before the work, which it
-/// would otherwise lose.
+/// not a directory, cannot be created or cannot be written to, by the flag's name: called before
+/// the work, which it would otherwise lose.
 pub fn output_dir(dir: &std::path::Path, flag: &str) -> crate::Result<()> {
     let refuse = |why: &str| crate::Error::invalid(flag, dir.display().to_string(), why);
     if dir.exists() && !dir.is_dir() {
         return Err(refuse("exists and is not a directory"));
     }
     std::fs::create_dir_all(dir)
-        .map_err(|e| refuse(&format!("cannot be created as a directory: {e}")))
+        .map_err(|e| refuse(&format!("cannot be created as a directory: {e}")))?;
+    // Writable: a file created and removed now, not a failure after the work (`/proc`).
+    let probe = dir.join(format!(".dyncontact-probe-{}", std::process::id()));
+    std::fs::write(&probe, b"")
+        .and_then(|()| std::fs::remove_file(&probe))
+        .map_err(|e| refuse(&format!("cannot be written to: {e}")))
 }
 
 /// Worker threads per core that `RAYON_NUM_THREADS` may ask for (at least [`MIN_THREAD_CAP`]

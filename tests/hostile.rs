@@ -362,6 +362,125 @@ fn report_and_sweep_errors_name_the_case_file_and_the_sweep() {
     );
 }
 
+/// A `[[sweep]]` table that would ignore what it says or name files outside the report is
+/// refused before any run, naming the field: `refinements` beside `levels` (which ran one
+/// level), a degree for a space it does not run, a space listed twice (blamed on "two case files
+/// of one name?"), a name with a `/` (every run went first, then a plotting error).
+#[test]
+fn sweep_tables_that_would_ignore_a_field_or_misname_a_file_are_refused_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    for (from, to, needles) in [
+        (
+            "levels = 5",
+            "levels = 5\nrefinements = [{ dt = 0.01 }]",
+            &["sweep.orders.dt`", "not with `refinements`"][..],
+        ),
+        (
+            "quick_levels = 3",
+            "quick_levels = 3\ndegree = { no_such_space = 2 }",
+            &[
+                "sweep.orders.degree.no_such_space`: 2",
+                "not a space of this sweep",
+            ],
+        ),
+        (
+            "spaces = [\"standard\"]",
+            "spaces = [\"standard\", \"standard\"]",
+            &["sweep.orders.spaces`: \"standard\"", "listed twice"],
+        ),
+        (
+            "name = \"orders\"",
+            "name = \"a/b\"",
+            &["sweep.name`: \"a/b\"", "part of file names"],
+        ),
+    ] {
+        let bad = edited(dir.path(), "spring_mass.toml", &[(from, to)]);
+        let start = Instant::now();
+        let out = dyncontact(&["sweep", &bad, "--quick", "--out", o]);
+        assert_clear_error(&out, needles);
+        assert!(!stderr(&out).contains("running"), "{}", stderr(&out));
+        assert!(
+            start.elapsed() < Duration::from_secs(10),
+            "{from}: ran first"
+        );
+    }
+}
+
+/// `merge` reads back only what a sweep writes: one row per run (the same file twice was "22
+/// runs merged"), plain case and sweep names (`../ESCAPED` wrote figures beside `--out`),
+/// no NaN (records write an empty field), a positive finite dt, a known status.
+#[test]
+fn merge_refuses_records_that_no_sweep_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let shard = dir.path().join("s");
+    let s = shard.to_str().unwrap();
+    let out = dyncontact(&[
+        "sweep",
+        "cases/spring_mass.toml",
+        "--quick",
+        "--shard",
+        "1/2",
+        "--out",
+        s,
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let records = shard.join("records-1-of-2.csv");
+    let text = std::fs::read_to_string(&records).unwrap();
+    let o = dir.path().join("o");
+    let merge = |files: &[&Path]| {
+        let mut args = vec!["merge".to_string()];
+        args.extend(files.iter().map(|f| f.to_str().unwrap().to_string()));
+        args.extend(["--out".to_string(), o.to_str().unwrap().to_string()]);
+        dyncontact(&args.iter().map(String::as_str).collect::<Vec<_>>())
+    };
+    assert_clear_error(
+        &merge(&[&records, &records]),
+        &["column `key`", "one run, one row"],
+    );
+    // Column `column` of the first row set to `value`.
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let with = |column: &str, value: &str| {
+        let k = header.iter().position(|h| *h == column).unwrap();
+        let mut lines: Vec<String> = text.lines().map(String::from).collect();
+        let mut row: Vec<String> = lines[1].split(',').map(String::from).collect();
+        row[k] = value.to_string();
+        lines[1] = row.join(",");
+        let path = dir.path().join(format!("{column}.csv"));
+        std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+        path
+    };
+    for (column, value, needles) in [
+        (
+            "case",
+            "../ESCAPED",
+            &["row 2, column `case`", "part of file names"][..],
+        ),
+        (
+            "sweep",
+            "a/b",
+            &["row 2, column `sweep`", "part of file names"],
+        ),
+        ("dt", "NaN", &["row 2, column `dt`: `NaN`", "empty field"]),
+        ("dt", "-1", &["row 2, column `dt`: -1", "> 0"]),
+        (
+            "wall_time_s",
+            "inf",
+            &["row 2, column `wall_time_s`: inf", "finite"],
+        ),
+        (
+            "status",
+            "great",
+            &["row 2, column `status`: `great`", "ok, diverged"],
+        ),
+    ] {
+        assert_clear_error(&merge(&[&with(column, value)]), needles);
+    }
+    assert!(!dir.path().join("ESCAPED_orders_energy.png").exists());
+    assert!(merge(&[&records]).status.success());
+}
+
 #[test]
 fn a_bar_at_rest_reports_an_absolute_energy_drift_not_nan() {
     let dir = tempfile::tempdir().unwrap();
@@ -551,6 +670,23 @@ fn options_the_run_would_ignore_are_refused_naming_the_flag_or_field() {
         ),
     ] {
         assert_clear_error(&run(args), needles);
+    }
+    // Schemes that apply their own contact law would ignore an LCP solver (the outputs were
+    // byte-identical with every solver).
+    for scheme in ["explicit_penalty", "hauret_le_tallec", "taylor_flanagan"] {
+        let args = [
+            "cases/bar1d.toml",
+            "--scheme",
+            scheme,
+            "--contact-solver",
+            "clarabel",
+        ];
+        let needles = [
+            "`run.contact_solver`: \"clarabel\"",
+            scheme,
+            "not through an LCP",
+        ];
+        assert_clear_error(&run(&args), &needles);
     }
     // The case file's β and γ are Newmark's: another scheme drops them rather than refuse.
     let out = run(&["cases/bar1d.toml", "--scheme", "backward_euler"]);

@@ -254,7 +254,8 @@ impl RunSpec {
         self.options.params.validate("run")?;
         self.check_applicable()?;
         crate::space::by_name(&self.space)?;
-        crate::time::by_name(&self.scheme, self.params()).map_err(|e| e.in_table("run"))?;
+        let scheme =
+            crate::time::by_name(&self.scheme, self.params()).map_err(|e| e.in_table("run"))?;
         let formulation = crate::contact::formulation(&self.options)?;
         if let (Some(m), false) = (
             &self.options.contact_multiplier,
@@ -266,16 +267,22 @@ impl RunSpec {
                 "applies to contact = \"weak\" only",
             ));
         }
-        // A formulation that solves its own law per step (Nitsche's semismooth Newton) would
-        // silently ignore another LCP solver.
-        if !formulation.takes_solver() && self.options.contact_solver() != "active_set" {
+        // A formulation that solves its own law per step (Nitsche's semismooth Newton) or a
+        // scheme that applies its own (a penalty, a velocity correction) would silently ignore
+        // another LCP solver.
+        let own = match (formulation.takes_solver(), scheme.own_law()) {
+            (false, _) => Some(format!(
+                "contact = \"{}\" solves its own law per step",
+                formulation.name()
+            )),
+            (true, Some(law)) => Some(format!("scheme {} applies {law}", scheme.name())),
+            (true, None) => None,
+        };
+        if let (Some(why), true) = (own, self.options.contact_solver() != "active_set") {
             return Err(Error::invalid(
                 "run.contact_solver",
                 self.options.contact_solver(),
-                &format!(
-                    "contact = \"{}\" solves its own law per step",
-                    formulation.name()
-                ),
+                &format!("{why}, not through an LCP solver (leave the default, active_set)"),
             ));
         }
         crate::contact::by_name(self.options.contact_solver(), 0)?;

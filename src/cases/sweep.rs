@@ -40,6 +40,14 @@ impl HistorySpec {
         };
         combination(space, &self.scheme, &self.degree, level, None)
     }
+
+    /// Refuses a name that cannot be part of a file name (`<case>_<name>_energy.png`).
+    pub fn validate(&self) -> Result<()> {
+        if self.name.is_empty() {
+            return Ok(());
+        }
+        crate::util::check_name("history.name", &self.name)
+    }
 }
 
 impl SchemeChoice {
@@ -84,9 +92,8 @@ pub struct SweepSpec {
     pub elements: Option<usize>,
     /// Coarsest time step.
     pub dt: Option<f64>,
-    /// Refinement ratio (integer ≥ 2).
-    #[serde(default = "two")]
-    pub ratio: usize,
+    /// Refinement ratio (integer ≥ 2; default 2).
+    pub ratio: Option<usize>,
     /// Number of levels.
     pub levels: Option<usize>,
     /// Levels kept by `--quick`.
@@ -109,11 +116,40 @@ impl SweepSpec {
         format!("sweep.{}.{f}", self.name)
     }
 
-    /// Refuses a table that would run nothing: no space, no scheme, no level kept by `--quick`.
+    /// Refuses a table that would run nothing (no space, no scheme, no level kept by `--quick`)
+    /// or ignore what it says: a name that is not a file-name part (it names the report's
+    /// files), a space listed twice, a degree for a space it does not run, `refinements` beside
+    /// the fields they replace.
     fn validate(&self) -> Result<()> {
         let field = |f: &str| self.field(f);
+        crate::util::check_name("sweep.name", &self.name)?;
         if self.spaces.is_empty() {
             return Err(Error::invalid(field("spaces"), "[]", "at least one space"));
+        }
+        if let Some(twice) = crate::util::first_repeated(&self.spaces) {
+            return Err(Error::invalid(field("spaces"), twice, "listed twice"));
+        }
+        if let Some(other) = self.degree.keys().find(|k| !self.spaces.contains(k)) {
+            return Err(Error::invalid(
+                field(&format!("degree.{other}")),
+                self.degree[other],
+                &format!("not a space of this sweep ({})", self.spaces.join(", ")),
+            ));
+        }
+        if !self.refinements.is_empty() {
+            let beside = [
+                ("elements", self.elements.is_some()),
+                ("dt", self.dt.is_some()),
+                ("ratio", self.ratio.is_some()),
+                ("levels", self.levels.is_some()),
+            ];
+            if let Some((name, _)) = beside.iter().find(|(_, set)| *set) {
+                return Err(Error::invalid(
+                    field(name),
+                    "set",
+                    "not with `refinements`, which lists every level's elements and dt",
+                ));
+            }
         }
         if self.schemes.is_empty() {
             return Err(Error::invalid(
@@ -145,12 +181,13 @@ impl SweepSpec {
             let count = self
                 .levels
                 .ok_or_else(|| Error::invalid(field("levels"), "missing", "levels ≥ 1"))?;
-            if self.ratio < 2 {
-                return Err(Error::invalid(field("ratio"), self.ratio, "integer ≥ 2"));
+            let ratio = self.ratio.unwrap_or(2);
+            if ratio < 2 {
+                return Err(Error::invalid(field("ratio"), ratio, "integer ≥ 2"));
             }
             // Level k: elements × ratioᵏ, dt / ratioᵏ, while they fit (k < 64 for ratio ≥ 2).
             let level = |k: usize| -> Option<Refinement> {
-                let factor = self.ratio.checked_pow(u32::try_from(k).ok()?)?;
+                let factor = ratio.checked_pow(u32::try_from(k).ok()?)?;
                 let elements = match self.elements {
                     Some(n) => Some(n.checked_mul(factor)?),
                     None => None,
@@ -168,11 +205,8 @@ impl SweepSpec {
                     // The first refinement overflows: elements × ratio.
                     (1, Some(n)) => Error::invalid(
                         field("ratio"),
-                        self.ratio,
-                        &format!(
-                            "{overflow}: elements × ratio = {n} × {} overflows",
-                            self.ratio
-                        ),
+                        ratio,
+                        &format!("{overflow}: elements × ratio = {n} × {ratio} overflows"),
                     ),
                     _ => Error::invalid(field("levels"), count, &overflow),
                 })?);

@@ -283,6 +283,7 @@ fn figures_estimate(file: &CaseFile, quick: bool) -> Result<Estimate> {
         }
     } else if !case.histories().is_empty() {
         for h in case.histories() {
+            h.validate()?;
             let dts = if quick {
                 &h.dts[..h.dts.len().min(1)]
             } else {
@@ -346,9 +347,9 @@ fn finite_body_estimate(case: &dyn Case, size: Size) -> Estimate {
 
 /// Joins record files (from `sweep --shard`) into a report in `out` (no time histories).
 pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
-    let mut records = Vec::new();
+    let (mut records, mut keys) = (Vec::new(), std::collections::HashMap::new());
     for f in files {
-        records.extend(read_records(f)?);
+        records.extend(read_records(f, &mut keys)?);
     }
     // After the inputs, which are cheap to read: a bad input leaves no empty directory.
     crate::util::output_dir(out, "--out")?;

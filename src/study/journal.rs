@@ -194,7 +194,8 @@ pub fn run_study_with<R: Send>(
         return Err(Error::invalid(
             "sweep",
             &j.key,
-            "two runs of the [[sweep]] tables have the same key (two case files of one name?)",
+            "two runs of the [[sweep]] tables have the same key (a scheme listed twice in one \
+             [[sweep]], two [[sweep]] tables of one name, or two case files of one name?)",
         ));
     }
     let (journal, done) = Journal::open(dir, journal, resume)?;

@@ -20,12 +20,21 @@ const TICKS: f64 = 100.0;
 
 /// Starts profiling into `path` (a new CSV with its header).
 pub fn start(path: &Path) -> Result<()> {
-    let mut file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+    // Named by its flag: the file is created before the work, and `report --profile` is its
+    // only caller.
+    let refuse = |e: std::io::Error| {
+        Error::invalid(
+            "--profile",
+            path.display().to_string(),
+            &format!("cannot be written: {e}"),
+        )
+    };
+    let mut file = std::fs::File::create(path).map_err(refuse)?;
     writeln!(
         file,
         "kind,task,start_s,end_s,wall_s,cpu_s,thread_cpu_s,rss_mb"
     )
-    .map_err(|e| Error::io(path, e))?;
+    .map_err(refuse)?;
     // A second start keeps the first profile.
     let _ = PROFILE.set((Mutex::new(file), Instant::now()));
     Ok(())

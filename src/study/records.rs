@@ -103,13 +103,32 @@ pub fn write_timings(path: &Path, records: &[RunRecord]) -> Result<()> {
 /// A records file read back (`dyncontact merge`).
 pub const RECORDS_FILE: Input = TABLE.named("records file");
 
-/// Reads records written by [`write_records`] (with or without the timing columns).
-pub fn read_records(path: &Path) -> Result<Vec<RunRecord>> {
+/// Reads records written by [`write_records`] (with or without the timing columns): one row
+/// per run, so a key that `seen` already holds (from this file or an earlier one) is refused,
+/// naming both places; the file's keys are added to `seen`.
+pub fn read_records(
+    path: &Path,
+    seen: &mut std::collections::HashMap<String, String>,
+) -> Result<Vec<RunRecord>> {
     let text = RECORDS_FILE.read(path)?;
-    Ok(read_rows(&text, path, RECORDS_FILE, &[])?
+    let records: Vec<RunRecord> = read_rows(&text, path, RECORDS_FILE, &[])?
         .into_iter()
         .map(|r| r.0)
-        .collect())
+        .collect();
+    for (line, r) in records.iter().enumerate() {
+        let here = format!("{}, row {}", path.display(), line + 2);
+        if let Some(first) = seen.insert(r.key.clone(), here) {
+            return Err(RECORDS_FILE.error(
+                path,
+                format!(
+                    "row {}, column `key`: `{}` is the key of {first} too (one run, one row)",
+                    line + 2,
+                    r.key
+                ),
+            ));
+        }
+    }
+    Ok(records)
 }
 
 /// Records from CSV text, each with the values of the `extra` columns (empty where the file has
@@ -139,9 +158,27 @@ pub fn read_rows(
             if t.is_empty() {
                 return Ok(None);
             }
-            t.parse::<f64>()
-                .map(Some)
-                .map_err(|e| err(format!("{}: {e}", at(name))))
+            match t.parse::<f64>() {
+                // Records write an absent value as an empty field, never as NaN.
+                Ok(v) if v.is_nan() => Err(err(format!(
+                    "{}: `{t}` (an absent value is an empty field)",
+                    at(name)
+                ))),
+                Ok(v) => Ok(Some(v)),
+                Err(e) => Err(err(format!("{}: {e}", at(name)))),
+            }
+        };
+        // A size of the run: finite and positive (dt, h) or not negative (time, memory).
+        let size = |name: &str, zero: bool| -> Result<Option<f64>> {
+            let v = float(name)?;
+            match v {
+                Some(x) if !x.is_finite() || x < 0.0 || (x == 0.0 && !zero) => Err(err(format!(
+                    "{}: {x} (must be finite and {})",
+                    at(name),
+                    if zero { "≥ 0" } else { "> 0" }
+                ))),
+                _ => Ok(v),
+            }
         };
         let count = |name: &str| -> Result<usize> {
             text(name)
@@ -149,7 +186,23 @@ pub fn read_rows(
                 .map_err(|e| err(format!("{}: {e}", at(name))))
         };
         let nan = |x: Option<f64>| x.unwrap_or(f64::NAN);
-        let status = Status::parse(&text("status")).ok_or_else(|| err(at("status")))?;
+        let status = Status::parse(&text("status")).ok_or_else(|| {
+            let known: Vec<&str> = Status::ALL.iter().map(|s| s.as_str()).collect();
+            err(format!(
+                "{}: `{}` (one of {})",
+                at("status"),
+                text("status"),
+                known.join(", ")
+            ))
+        })?;
+        // The case and the sweep name the report's files: plain names, no `/` nor `..`.
+        let name = |column: &str| -> Result<String> {
+            let value = text(column);
+            crate::util::check_name(column, &value)
+                .map_err(|e| err(format!("{}: {e}", at(column))))?;
+            Ok(value)
+        };
+        let (case, sweep) = (name("case")?, name("sweep")?);
         let mut metrics = Metrics::default();
         for c in METRIC_COLUMNS {
             (c.set)(&mut metrics, float(c.name)?);
@@ -160,25 +213,25 @@ pub fn read_rows(
         };
         let record = RunRecord {
             key: text("key"),
-            sweep: text("sweep"),
+            sweep,
             level: count("level")?,
             status,
             reason: text("reason"),
             summary: Summary {
-                case: text("case"),
+                case,
                 space: text("space"),
                 scheme: text("scheme"),
                 parameters: text("parameters"),
                 contact: text("contact"),
                 degree,
                 cells: text("cells"),
-                h: nan(float("h")?),
-                dt: nan(float("dt")?),
+                h: nan(size("h", false)?),
+                dt: size("dt", false)?.ok_or_else(|| err(format!("{}: empty", at("dt"))))?,
                 dofs: count("dofs")?,
                 steps: count("steps")?,
                 contact_iterations: count("contact_iterations")?,
-                wall_time: float("wall_time_s")?.unwrap_or(0.0),
-                max_rss: float("max_rss_mb")?.map_or(f64::NAN, |m| m * 1048576.0),
+                wall_time: size("wall_time_s", true)?.unwrap_or(0.0),
+                max_rss: size("max_rss_mb", true)?.map_or(f64::NAN, |m| m * 1048576.0),
                 metrics,
             },
             probe: Vec::new(),

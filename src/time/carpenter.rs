@@ -15,8 +15,9 @@
 //! penetration at any step. Written with [`super::step::explicit`]: no factorisation, one product
 //! by K per step; for nodal rows (one row per point, no dof shared) W is diagonal and the LCP is
 //! solved in closed form, `λ_i = max(0, −g*_i / (Δt² W_ii))` (FrontISTR's Jacobi loop is exact
-//! then); rows sharing dofs (weak multipliers on faces) or a formulation's modified law
-//! (penalty) take the formulation's LCP solver on the dense `Δt² W`. Stable below the
+//! then, and so is the default active set); rows sharing dofs (weak multipliers on faces), a
+//! formulation's modified law (penalty) or another `--contact-solver` asked for take the LCP
+//! solver on the dense `Δt² W`. Stable below the
 //! contact-free CFL limit `2/ω_max(M⁻¹K)` (the correction is a projection of the increment, not a
 //! stiffness), refused above [`super::step::cfl::CFL_SAFETY`] times it.
 //!
@@ -87,7 +88,10 @@ impl Scheme for Carpenter {
     ) -> Result<Box<dyn Integrator + 'p>> {
         let x = explicit::start(problem, dt, solvers.linear, (self.name(), OTHERWISE), 0.0)?;
         let h2 = x.dt * x.dt;
-        let law = if solvers.contact.signorini() && shared_dof(&x.rows, problem.n()).is_none() {
+        let closed_form = solvers.contact.signorini()
+            && solvers.contact.name() == "active_set"
+            && shared_dof(&x.rows, problem.n()).is_none();
+        let law = if closed_form {
             Law::ClosedForm(x.delassus().iter().map(|w| 1.0 / (h2 * w)).collect())
         } else {
             Law::Solver(solvers.contact, x.delassus_matrix(h2))

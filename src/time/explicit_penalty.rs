@@ -101,6 +101,10 @@ impl Scheme for ExplicitPenalty {
         Enforcement::Penalty
     }
 
+    fn own_law(&self) -> Option<&'static str> {
+        Some("its penalty force κ (−g)₊")
+    }
+
     fn prepare<'p>(
         &self,
         problem: &'p Problem,

@@ -94,6 +94,10 @@ impl Scheme for HauretLeTallec {
         Enforcement::Impact
     }
 
+    fn own_law(&self) -> Option<&'static str> {
+        Some("its penalty law by Newton")
+    }
+
     fn prepare<'p>(
         &self,
         problem: &'p Problem,

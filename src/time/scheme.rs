@@ -59,6 +59,11 @@ pub trait Scheme: std::fmt::Debug + Send + Sync {
     fn friction(&self) -> Option<&'static str> {
         None
     }
+    /// The contact law the scheme applies by its own rule, never through an LCP solver (then
+    /// `--contact-solver` would be ignored and is refused); None: it calls the solver.
+    fn own_law(&self) -> Option<&'static str> {
+        None
+    }
     /// Assembles and factors once; the returned integrator starts from `(U₀, V₀)`.
     fn prepare<'p>(
         &self,

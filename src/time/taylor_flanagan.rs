@@ -70,6 +70,10 @@ impl Scheme for TaylorFlanagan {
         Enforcement::Explicit
     }
 
+    fn own_law(&self) -> Option<&'static str> {
+        Some("its velocity correction, point by point")
+    }
+
     fn prepare<'p>(
         &self,
         problem: &'p Problem,
