@@ -258,7 +258,15 @@ fn a_tangled_gmsh_mesh_is_refused_naming_the_cells() {
     let out = run(args(&mesh));
     assert_clear_error(
         &out,
-        &["fan.msh", "cells", "same side of their common face"],
+        &["fan.msh", "element 2 and element 3", "face (nodes [2, 5])"],
+    );
+    // Messages number nodes and cells as the file does (they counted from 0); a face of Γ_C
+    // through one node twice is named (it was blamed on `material.density`, with h = 0).
+    let degenerate = fan_msh([0.5, 0.5]).replace("1 1 1 1\n1 1 2\n", "1 1 1 1\n1 1 1\n");
+    std::fs::write(&mesh, degenerate).unwrap();
+    assert_clear_error(
+        &run(args(&mesh)),
+        &["fan.msh", "element 1 of group `contact` has node 1 twice"],
     );
 }
 
@@ -479,6 +487,71 @@ fn merge_refuses_records_that_no_sweep_writes() {
     }
     assert!(!dir.path().join("ESCAPED_orders_energy.png").exists());
     assert!(merge(&[&records]).status.success());
+}
+
+/// Found by a third round of hostile inputs (2026-11-29, later): a field the run would ignore
+/// or that breaks the run is named itself, not a field it would have blamed.
+#[test]
+fn fields_that_break_or_do_nothing_are_named_themselves() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let run = |case: &str, extra: &[&str]| run(&[case], &[extra, &["--out", o]].concat());
+    // Each edited file in a directory of its own (the same name would be overwritten).
+    let own = |k: &str| {
+        let d = dir.path().join(k);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    };
+    let block = |k: &str, from: &str, to: &str| edited(&own(k), "block2d.toml", &[(from, to)]);
+    for (case, extra, needles) in [
+        // Nitsche's γ = h/(γ₀ E): its products overflowed into K (blamed on material.young), or
+        // 1/γ did at step 0 ("energy is NaN").
+        (
+            "cases/bar1d.toml".to_string(),
+            &["--contact", "nitsche", "--nitsche-gamma", "1e-308"][..],
+            &["`run.nitsche_gamma`: 1e-308", "too small"][..],
+        ),
+        (
+            "cases/bar1d.toml".to_string(),
+            &["--contact", "nitsche", "--nitsche-gamma", "1e308"],
+            &["`run.nitsche_gamma`: 1e308", "γ and 1/γ"],
+        ),
+        // A slope tilts gravity: without gravity it changed nothing.
+        (
+            block("slope", "gravity = 0.0", "gravity = 0.0\nslope = 0.3"),
+            &[],
+            &["`geometry.slope`: 0.3", "geometry.gravity = 0"],
+        ),
+        // Cells of aspect ratio 1e39: a failed factorisation, "NonPositivePivot { index: 3 }".
+        (
+            block("flat", "size = [1.0, 1.0]", "size = [1.0, 1e-40]"),
+            &[],
+            &["`geometry.size`: [1.0, 1e-40]", "at most 1e6"],
+        ),
+        // Gravity in a Hertz impact was blamed on the valid velocity.
+        (
+            edited(
+                dir.path(),
+                "hertz2d.toml",
+                &[("gravity = 0.0", "gravity = 1.0")],
+            ),
+            &[],
+            &["`geometry.gravity`: 1.0", "no gravity"],
+        ),
+        // An initial state that overflows: step 0 says so.
+        (
+            block("fast", "velocity = -0.1", "velocity = -1e200"),
+            &[],
+            &[
+                "diverged at step 0",
+                "in the initial state",
+                "initial condition",
+            ],
+        ),
+    ] {
+        assert_clear_error(&run(&case, extra), needles);
+    }
 }
 
 #[test]
@@ -750,7 +823,7 @@ fn what_the_time_scale_cannot_measure_is_named_before_it() {
     let block = ["--mesh", mesh, "--t-end", "0.01"];
     assert_clear_error(
         &run("cases/block2d.toml", &block),
-        &["fan.msh", "has a non-finite coordinate"],
+        &["fan.msh", "node 5 has a non-finite coordinate"],
     );
     let spring = |edits: &[(&str, &str)]| edited(dir.path(), "spring_mass.toml", edits);
     let stiffness = spring(&[("stiffness = 1.0", "stiffness = -1.0")]);

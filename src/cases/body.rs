@@ -271,6 +271,9 @@ fn assembly_bytes(element: &RefElement, cells: f64, nodes: f64) -> f64 {
 
 /// Cells of a box along each direction: `n` along the first, the others in proportion to the
 /// size (at least 1).
+/// The largest ratio of a generated box cell's edges (geometry.size against mesh.elements).
+pub const MAX_ASPECT: f64 = 1e6;
+
 fn box_cells(g: &Geometry, dim: usize, n: usize) -> [usize; 3] {
     let mut cells = [1; 3];
     for (c, s) in cells.iter_mut().zip(&g.size).take(dim) {
@@ -442,6 +445,19 @@ pub(super) fn build_mesh(
                 crate::error::length("geometry.size", *s)?;
             }
             let cells = box_cells(g, dim, n);
+            let h: Vec<f64> = (0..dim).map(|k| g.size[k] / cells[k] as f64).collect();
+            let aspect = h.iter().fold(0.0_f64, |a, &x| a.max(x))
+                / h.iter().fold(f64::INFINITY, |a, &x| a.min(x));
+            if aspect > MAX_ASPECT {
+                return Err(Error::invalid(
+                    "geometry.size",
+                    &g.size,
+                    &format!(
+                        "its cells would be {aspect:.1e} times longer one way than another (at \
+                         most {MAX_ASPECT:e}): the stiffness would be singular to round-off"
+                    ),
+                ));
+            }
             let mut size = [0.0; 3];
             size[..dim].copy_from_slice(&g.size[..dim]);
             let count = cells[..dim].iter().map(|&c| c as f64).product::<f64>();
@@ -532,6 +548,13 @@ impl Body {
             -0.5 * std::f64::consts::PI,
             0.5 * std::f64::consts::PI,
         )?;
+        if g.slope != 0.0 && g.gravity == 0.0 {
+            return Err(Error::invalid(
+                "geometry.slope",
+                g.slope,
+                "tilts gravity, and geometry.gravity = 0: it would be ignored",
+            ));
+        }
         let (mesh, rule) = match mesh {
             Some(mesh) => {
                 refuse_generated(o, &mesh.origin)?;
@@ -548,11 +571,18 @@ impl Body {
                 )
             })?;
             positive("geometry.radius", radius)?;
-            if g.velocity >= 0.0 || g.gravity != 0.0 {
+            if g.velocity >= 0.0 {
                 return Err(Error::invalid(
                     "geometry.velocity",
                     g.velocity,
-                    "a Hertz impact needs a velocity towards the plane (< 0) and no gravity",
+                    "a Hertz impact needs a velocity towards the plane (< 0)",
+                ));
+            }
+            if g.gravity != 0.0 {
+                return Err(Error::invalid(
+                    "geometry.gravity",
+                    g.gravity,
+                    "a Hertz impact has no gravity (= 0): the body flies at its velocity",
                 ));
             }
             Some(Hertz::new(

@@ -185,6 +185,16 @@ impl Formulation for Nitsche {
         let (mut compliance, mut energy) = (Vec::new(), Vec::new());
         for (i, p) in points.iter().enumerate() {
             let (w, gamma) = (p.weight, p.h_over_e / self.gamma0);
+            if !gamma.is_normal() || !(1.0 / gamma).is_finite() {
+                return Err(Error::invalid(
+                    "run.nitsche_gamma",
+                    self.gamma0,
+                    &format!(
+                        "gives γ = h/(γ₀ E) = {gamma:e} at contact point {i}: γ and 1/γ must \
+                         be finite and non-zero"
+                    ),
+                ));
+            }
             let r = combine(&p.u_n, &p.sigma_n, gamma);
             for &(j, v) in &r {
                 gap.add(i, j, v);
@@ -215,6 +225,16 @@ impl Formulation for Nitsche {
         }
         problem.probe.contact = nearest_point(&points, problem.probe.contact)?;
         problem.k = k.build()?;
+        if let Some(v) = problem.k.val().iter().find(|v| !v.is_finite()) {
+            return Err(Error::invalid(
+                "run.nitsche_gamma",
+                self.gamma0,
+                &format!(
+                    "its term −θ ∫ γ σ_n(u) σ_n(v), γ = h/(γ₀ E), puts {v} in the stiffness: γ₀ is \
+                     too small for this mesh and material"
+                ),
+            ));
+        }
         let contact = &mut problem.contact;
         contact.b_n = gap.build()?;
         contact.g0 = points.iter().map(|p| p.g0).collect();

@@ -1064,6 +1064,7 @@ mod tests {
             connectivity: vec![vec![0, 1, 2, 3]],
             h: 1.0,
             contact_faces: None,
+            tags: None,
         };
         // The master's top: (−c, −s) – (0, 0) – (c, −s), outward normals (±s, c).
         let mut master = bar(0.0, 1.0, 1, 1);

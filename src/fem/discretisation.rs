@@ -89,7 +89,7 @@ impl Discretisation {
         if let Some(&(i, _)) = self.contact_vertices.iter().find(|v| flags[v.0]) {
             return Err(Error::Mesh {
                 origin: self.mesh.origin.clone(),
-                message: format!("the clamped node {i} is a vertex of Γ_C"),
+                message: format!("the clamped {} is a vertex of Γ_C", self.mesh.node_name(i)),
             });
         }
         self.dofs = DofMap::new(self.dim(), &flags);
@@ -361,9 +361,12 @@ impl Discretisation {
                 return Err(Error::Mesh {
                     origin: self.mesh.origin.clone(),
                     message: format!(
-                        "node {i} at {:?} penetrates the plane x_{} = 0 by {:.3e} at t = 0 \
+                        "{} at {:?} penetrates the plane x_{} = 0 by {:.3e} at t = 0 \
                          (lift {lift})",
-                        self.mesh.nodes[i], d, -g
+                        self.mesh.node_name(i),
+                        self.mesh.nodes[i],
+                        d,
+                        -g
                     ),
                 });
             }

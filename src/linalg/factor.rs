@@ -152,9 +152,15 @@ pub(super) fn numeric_llt(
             MemStack::new(&mut buffer),
             Default::default(),
         )
-        .map_err(|e| Error::Factorisation {
-            matrix: name.to_string(),
-            reason: format!("not symmetric positive definite ({e:?})"),
+        .map_err(|e| {
+            let faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } = e;
+            Error::Factorisation {
+                matrix: name.to_string(),
+                reason: format!(
+                    "not symmetric positive definite (a pivot ≤ 0 at column {index} of its \
+                     fill-reducing order)"
+                ),
+            }
         })?;
     Ok(values)
 }

@@ -156,6 +156,7 @@ pub fn round_body(element: RefElement, n: usize, radius: f64, grading_ratio: f64
         connectivity,
         h: radius * 2.0 / n as f64 / root,
         contact_faces: None,
+        tags: None,
     })
 }
 

@@ -49,6 +49,8 @@ struct File {
     msh: mshio::MshFile<u64, i32, f64>,
     coords: Vec<[f64; 3]>,
     tag_index: Box<dyn Fn(u64) -> Option<usize>>,
+    /// The tag of each node of `coords`.
+    node_tags: Vec<u64>,
     names: Vec<(usize, i32, String)>,
 }
 
@@ -64,7 +66,7 @@ impl File {
         check_version(&bytes).map_err(&err)?;
         let msh = mshio::parse_msh_bytes(bytes.as_slice())
             .map_err(|e| err(format!("not a readable MSH 4.1 file: {e}")))?;
-        let (coords, tag_index) = nodes(&msh.data).map_err(&err)?;
+        let (coords, tag_index, node_tags) = nodes(&msh.data).map_err(&err)?;
         let elements = msh
             .data
             .elements
@@ -85,8 +87,8 @@ impl File {
         if dim == 2 {
             if let Some(i) = coords.iter().position(|x| x[2] != 0.0) {
                 return Err(err(format!(
-                    "node {i} of a 2D mesh has z = {} ≠ 0",
-                    coords[i][2]
+                    "node {} of a 2D mesh has z = {} ≠ 0",
+                    node_tags[i], coords[i][2]
                 )));
             }
         }
@@ -97,6 +99,7 @@ impl File {
             msh,
             coords,
             tag_index,
+            node_tags,
             names,
         })
     }
@@ -147,7 +150,7 @@ impl File {
         let of_body = |tag: i32| body.as_ref().is_none_or(|e| e.contains(&tag));
         // Cells: the blocks of dimension `dim` (of the body's entities), one family.
         let mut element: Option<(RefElement, ElementType)> = None;
-        let mut cells: Vec<Vec<usize>> = Vec::new();
+        let (mut cells, mut cell_tags): (Vec<Vec<usize>>, Vec<u64>) = (Vec::new(), Vec::new());
         for block in elements
             .element_blocks
             .iter()
@@ -179,6 +182,7 @@ impl File {
                     reorder(&el, &gm, coords)
                         .map_err(|m| format!("element {}: {m}", e.element_tag))?,
                 );
+                cell_tags.push(e.element_tag);
             }
         }
         let Some((element, _)) = element else {
@@ -218,6 +222,12 @@ impl File {
                     .iter()
                     .map(|&t| index(t))
                     .collect::<std::result::Result<_, _>>()?;
+                if let Some(&twice) = crate::util::first_repeated(&f) {
+                    return Err(format!(
+                        "element {} of group `{group}` has node {} twice: a degenerate face",
+                        e.element_tag, self.node_tags[twice]
+                    ));
+                }
                 faces.push(f);
             }
         }
@@ -229,12 +239,13 @@ impl File {
         }
         // Keep the nodes of the cells only, in file order.
         let mut used = vec![usize::MAX; coords.len()];
-        let mut nodes = Vec::new();
+        let (mut nodes, mut node_tags) = (Vec::new(), Vec::new());
         for c in &mut cells {
             for i in c.iter_mut() {
                 if used[*i] == usize::MAX {
                     used[*i] = nodes.len();
                     nodes.push(coords[*i]);
+                    node_tags.push(self.node_tags[*i]);
                 }
                 *i = used[*i];
             }
@@ -244,7 +255,7 @@ impl File {
                 if used[*i] == usize::MAX {
                     return Err(format!(
                         "a face of group `{group}` has node {} on no cell{}",
-                        *i,
+                        self.node_tags[*i],
                         cells_group.map_or(String::new(), |b| format!(" of `{b}`"))
                     ));
                 }
@@ -269,6 +280,10 @@ impl File {
             connectivity: cells,
             h,
             contact_faces: Some(faces),
+            tags: Some(super::Tags {
+                nodes: node_tags,
+                cells: cell_tags,
+            }),
         })
     }
 }
@@ -290,11 +305,12 @@ fn check_version(bytes: &[u8]) -> std::result::Result<(), String> {
     }
 }
 
-/// Node coordinates in file order, and the map from a node tag to its index.
+/// Node coordinates in file order, the map from a node tag to its index, and the tag of each
+/// index.
 #[allow(clippy::type_complexity)]
 fn nodes(
     data: &mshio::MshData<u64, i32, f64>,
-) -> std::result::Result<(Vec<[f64; 3]>, Box<dyn Fn(u64) -> Option<usize>>), String> {
+) -> std::result::Result<(Vec<[f64; 3]>, Box<dyn Fn(u64) -> Option<usize>>, Vec<u64>), String> {
     let n = data.nodes.as_ref().ok_or("no $Nodes section")?;
     let mut coords = Vec::new();
     let mut sparse: HashMap<u64, usize> = HashMap::new();
@@ -308,12 +324,21 @@ fn nodes(
         coords.extend(b.nodes.iter().map(|p| [p.x, p.y, p.z]));
     }
     let (min, len) = (n.min_node_tag, coords.len());
+    let tags: Vec<u64> = if dense {
+        (0..len as u64).map(|i| min + i).collect()
+    } else {
+        let mut tags = vec![0; len];
+        for (&t, &i) in &sparse {
+            tags[i] = t;
+        }
+        tags
+    };
     let lookup: Box<dyn Fn(u64) -> Option<usize>> = if dense {
         Box::new(move |t| t.checked_sub(min).map(|i| i as usize).filter(|&i| i < len))
     } else {
         Box::new(move |t| sparse.get(&t).copied())
     };
-    Ok((coords, lookup))
+    Ok((coords, lookup, tags))
 }
 
 /// The reference element of a Gmsh cell type in dimension `dim`.

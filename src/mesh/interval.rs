@@ -28,5 +28,6 @@ pub fn interval(length: f64, elements: usize, degree: usize) -> Result<Mesh> {
         connectivity,
         h,
         contact_faces: None,
+        tags: None,
     })
 }

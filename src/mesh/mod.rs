@@ -28,6 +28,18 @@ pub struct Mesh {
     /// Boundary faces tagged as Γ_C by the mesh source (a Gmsh physical group), as sorted vertex
     /// lists; `None`: Γ_C is chosen by [`ContactRule::Facing`].
     pub contact_faces: Option<Vec<Vec<usize>>>,
+    /// The file's own numbers of the nodes and cells (Gmsh tags), for messages; `None` for a
+    /// generated mesh, whose messages count from 0.
+    pub tags: Option<Tags>,
+}
+
+/// The numbers a mesh file gives its nodes and cells, by index.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tags {
+    /// Node tag of each node.
+    pub nodes: Vec<u64>,
+    /// Element tag of each cell.
+    pub cells: Vec<u64>,
 }
 
 /// A boundary face: its vertices, measure and unit outward normal.
@@ -151,6 +163,32 @@ impl Mesh {
         flag
     }
 
+    /// `node 9` for the node of index `i`, by its tag in the mesh file when there is one.
+    pub fn node_name(&self, i: usize) -> String {
+        match &self.tags {
+            Some(t) => format!("node {}", t.nodes.get(i).map_or(i as u64, |&n| n)),
+            None => format!("node {i}"),
+        }
+    }
+
+    /// The nodes `list` as the mesh file numbers them.
+    fn node_list(&self, list: &[usize]) -> Vec<u64> {
+        list.iter()
+            .map(|&i| match &self.tags {
+                Some(t) => t.nodes.get(i).map_or(i as u64, |&n| n),
+                None => i as u64,
+            })
+            .collect()
+    }
+
+    /// `element 3` (a mesh file's tag) or `cell 0` (a generated mesh's index) for cell `c`.
+    pub fn cell_name(&self, c: usize) -> String {
+        match &self.tags {
+            Some(t) => format!("element {}", t.cells.get(c).map_or(c as u64, |&n| n)),
+            None => format!("cell {c}"),
+        }
+    }
+
     /// Checks node indices, finite coordinates and the Jacobian of every cell: `det J` must keep
     /// one sign over the cell's quadrature points and vertices (any orientation is accepted) and
     /// `|det J|` must exceed 1e-10 of the cell's largest value times the mesh's scale (no
@@ -166,7 +204,10 @@ impl Mesh {
             .enumerate()
             .find(|(_, x)| x.iter().any(|v| !v.is_finite()))
         {
-            return Err(err(format!("node {i} has a non-finite coordinate")));
+            return Err(err(format!(
+                "{} has a non-finite coordinate",
+                self.node_name(i)
+            )));
         }
         if self.connectivity.is_empty() {
             return Err(err("no cell".into()));
@@ -183,7 +224,8 @@ impl Mesh {
         for (c, cell) in self.connectivity.iter().enumerate() {
             if cell.len() != n || cell.iter().any(|&i| i >= self.nodes.len()) {
                 return Err(err(format!(
-                    "cell {c}: {} nodes or an index out of range (expected {n} nodes below {})",
+                    "{}: {} nodes or an index out of range (expected {n} nodes below {})",
+                    self.cell_name(c),
                     cell.len(),
                     self.nodes.len()
                 )));
@@ -203,7 +245,10 @@ impl Mesh {
                 });
             if big.is_nan() || big <= 0.0 || (lo < 1e-10 * big && hi > -1e-10 * big) {
                 return Err(err(format!(
-                    "cell {c} (nodes {cell:?}) is inverted or degenerate: det J ranges over [{lo:.3e}, {hi:.3e}]"
+                    "{} (nodes {:?}) is inverted or degenerate: det J ranges over [{lo:.3e}, \
+                     {hi:.3e}]",
+                    self.cell_name(c),
+                    self.node_list(cell)
                 )));
             }
             orientation.push(hi.signum());
@@ -269,17 +314,21 @@ impl Mesh {
                 [a, b] if a.2 != b.2 => {}
                 [a, b] => {
                     return Err(err(format!(
-                        "cells {} and {} lie on the same side of their common face (nodes \
-                         {nodes:?}): the mesh folds over itself there (a cell inverted against \
-                         its neighbour, or overlapping it)",
-                        a.1, b.1
+                        "{} and {} lie on the same side of their common face (nodes {:?}): \
+                         the mesh folds over itself there (a cell inverted against its \
+                         neighbour, or overlapping it)",
+                        self.cell_name(a.1),
+                        self.cell_name(b.1),
+                        self.node_list(&nodes)
                     )))
                 }
                 _ => {
-                    let cells: Vec<usize> = face.iter().map(|e| e.1).collect();
+                    let cells: Vec<String> = face.iter().map(|e| self.cell_name(e.1)).collect();
                     return Err(err(format!(
-                        "the face with nodes {nodes:?} bounds cells {cells:?}: cells overlap (a \
-                         face bounds at most two)"
+                        "the face with nodes {:?} bounds {}: cells overlap (a face bounds at \
+                         most two)",
+                        self.node_list(&nodes),
+                        cells.join(", ")
                     )));
                 }
             }
@@ -454,6 +503,7 @@ mod tests {
             connectivity: vec![vec![0, 1, 4], vec![1, 2, 4], vec![2, 3, 4], vec![3, 0, 4]],
             h: 1.0,
             contact_faces: None,
+            tags: None,
         }
     }
 
@@ -469,7 +519,7 @@ mod tests {
         let e = m.check().unwrap_err().to_string();
         assert!(e.contains("fan") && e.contains("same side"), "{e}");
         assert!(
-            e.contains("cells 0 and 1") || e.contains("cells 1 and 2"),
+            e.contains("cell 0 and cell 1") || e.contains("cell 1 and cell 2"),
             "{e}"
         );
     }
@@ -519,7 +569,7 @@ mod tests {
         m.connectivity.push(vec![1, 5, 4]);
         let e = m.check().unwrap_err().to_string();
         assert!(
-            e.contains("[1, 4] bounds cells [0, 1, 4]") && e.contains("at most two"),
+            e.contains("[1, 4] bounds cell 0, cell 1, cell 4") && e.contains("at most two"),
             "{e}"
         );
     }

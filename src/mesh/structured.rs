@@ -90,6 +90,7 @@ pub fn box_mesh(element: RefElement, cells: [usize; 3], size: [f64; 3]) -> Resul
         connectivity,
         h: size[0] / cells[0] as f64,
         contact_faces: None,
+        tags: None,
     })
 }
 

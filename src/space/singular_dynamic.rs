@@ -163,8 +163,9 @@ impl StepOperator for SaddleStep {
 fn velocity_space(model: &MassModel) -> Result<&VelocitySpace> {
     model.velocity.as_ref().ok_or_else(|| {
         Error::Unsupported(
-            "singular_dynamic needs a displacement of degree 2 (P2 displacement / P1 velocity); \
-             use --degree 2"
+            "singular_dynamic needs a displacement of degree 2 (P2 displacement / P1 velocity): \
+             use --degree 2 on a generated mesh, or a second-order mesh file (Tri6, Qua9, Tet10, \
+             Hex27: `gmsh -order 2`)"
                 .into(),
         )
     })

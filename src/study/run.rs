@@ -369,12 +369,19 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
     })
 }
 
-/// The error of a sample whose quantity `what` is `value`, not finite.
+/// The error of a sample whose quantity `what` is `value`, not finite. At step 0 no step has
+/// run: the initial state itself overflows, and the message says where to look.
 fn diverged(step: usize, time: f64, what: &str, value: f64) -> Error {
+    let before = if step == 0 {
+        " in the initial state, before any step: an initial condition (the velocity, the lift) \
+         or a material parameter of the case overflows"
+    } else {
+        ""
+    };
     Error::Diverged {
         step,
         time,
-        reason: format!("{what} is {value}"),
+        reason: format!("{what} is {value}{before}"),
     }
 }
 
