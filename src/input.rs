@@ -118,6 +118,14 @@ fn human(bytes: u64) -> String {
     }
 }
 
+/// What the existing file at `path` is when it is not a regular file (a FIFO, a device, a
+/// directory): a file the program writes in place must be refused first, as opening a FIFO for
+/// writing waits for a reader forever. None when `path` is a regular file or does not exist.
+pub fn not_regular(path: &Path) -> Option<&'static str> {
+    let meta = std::fs::metadata(path).ok()?;
+    (!meta.is_file()).then(|| file_kind(&meta))
+}
+
 /// What a file that is not regular is, for messages.
 fn file_kind(meta: &std::fs::Metadata) -> &'static str {
     #[cfg(unix)]

@@ -208,9 +208,22 @@ fn sweep(
     shard: Option<(usize, usize)>,
     resume: bool,
 ) -> Result<()> {
+    let files: Vec<Arc<cases::CaseFile>> = cases
+        .iter()
+        .map(|c| cases::CaseFile::read(c).map(Arc::new))
+        .collect::<Result<_>>()?;
+    jobs::distinct_cases(&files)?;
     let mut all = Vec::new();
-    for c in cases {
-        all.extend(jobs::jobs(&Arc::new(cases::CaseFile::read(c)?), quick)?);
+    for f in &files {
+        let runs = jobs::jobs(f, quick)?;
+        if runs.is_empty() {
+            return Err(dyncontact::Error::invalid(
+                "sweep",
+                f.path.display().to_string(),
+                "the case file has no [[sweep]] table",
+            ));
+        }
+        all.extend(runs);
     }
     if let Some(s) = shard {
         all = jobs::shard(all, s)?;

@@ -416,9 +416,10 @@ fn sweep_tables_that_would_ignore_a_field_or_misname_a_file_are_refused_first() 
     }
 }
 
-/// `merge` reads back only what a sweep writes: one row per run (the same file twice was "22
-/// runs merged"), plain case and sweep names (`../ESCAPED` wrote figures beside `--out`),
-/// no NaN (records write an empty field), a positive finite dt, a known status.
+/// `merge` reads back only what a sweep writes: every shard once (one of two shards was "11 runs
+/// merged"), one row per run (the same file twice was "22 runs merged"), plain case and sweep
+/// names (`../ESCAPED` wrote figures beside `--out`), finite values (records write an absent one
+/// as an empty field), a positive dt, a known status.
 #[test]
 fn merge_refuses_records_that_no_sweep_writes() {
     let dir = tempfile::tempdir().unwrap();
@@ -443,10 +444,29 @@ fn merge_refuses_records_that_no_sweep_writes() {
         args.extend(["--out".to_string(), o.to_str().unwrap().to_string()]);
         dyncontact(&args.iter().map(String::as_str).collect::<Vec<_>>())
     };
+    // Shard 1 of 2 alone, or twice, is not a sweep's set; a copy under another name is the
+    // user's own set, whose keys must be distinct.
     assert_clear_error(
-        &merge(&[&records, &records]),
+        &merge(&[&records]),
+        &[
+            "not the 2 shards of one sweep",
+            "missing records-2-of-2.csv",
+        ],
+    );
+    assert_clear_error(&merge(&[&records, &records]), &["not the 2 shards"]);
+    let mine = dir.path().join("mine.csv");
+    std::fs::copy(&records, &mine).unwrap();
+    assert_clear_error(
+        &merge(&[&records, &mine]),
         &["column `key`", "one run, one row"],
     );
+    let header_only = dir.path().join("empty.csv");
+    std::fs::write(
+        &header_only,
+        text.lines().next().unwrap().to_string() + "\n",
+    )
+    .unwrap();
+    assert_clear_error(&merge(&[&header_only]), &["no run"]);
     // Column `column` of the first row set to `value`.
     let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
     let with = |column: &str, value: &str| {
@@ -475,7 +495,12 @@ fn merge_refuses_records_that_no_sweep_writes() {
         (
             "wall_time_s",
             "inf",
-            &["row 2, column `wall_time_s`: inf", "finite"],
+            &["row 2, column `wall_time_s`: `inf`", "finite"],
+        ),
+        (
+            "energy_drift",
+            "-inf",
+            &["row 2, column `energy_drift`: `-inf`", "finite"],
         ),
         (
             "status",
@@ -486,7 +511,7 @@ fn merge_refuses_records_that_no_sweep_writes() {
         assert_clear_error(&merge(&[&with(column, value)]), needles);
     }
     assert!(!dir.path().join("ESCAPED_orders_energy.png").exists());
-    assert!(merge(&[&records]).status.success());
+    assert!(merge(&[&mine]).status.success());
 }
 
 /// Found by a third round of hostile inputs (2026-11-29, later): a field the run would ignore
@@ -539,6 +564,18 @@ fn fields_that_break_or_do_nothing_are_named_themselves() {
             &[],
             &["`geometry.gravity`: 1.0", "no gravity"],
         ),
+        // A Gmsh file replaced the [master] box without a word.
+        (
+            "cases/slide_on_block2d.toml".to_string(),
+            &["--mesh", "cases/meshes/two_discs.msh", "--t-end", "0.1"],
+            &["`master.mesh`", "this table would be ignored"],
+        ),
+        // The incidence turns a velocity that roll2d does not have (30° is in range).
+        (
+            "cases/roll2d.toml".to_string(),
+            &["--incidence", "30"],
+            &["`--incidence`: 30.0", "starts at rest"],
+        ),
         // An initial state that overflows: step 0 says so.
         (
             block("fast", "velocity = -0.1", "velocity = -1e200"),
@@ -551,6 +588,122 @@ fn fields_that_break_or_do_nothing_are_named_themselves() {
         ),
     ] {
         assert_clear_error(&run(&case, extra), needles);
+    }
+}
+
+/// A FIFO where a study writes its profile or its lock file blocked forever (opening it for
+/// writing waits for a reader) or failed with "Invalid argument": refused as not a regular file.
+#[cfg(unix)]
+#[test]
+fn a_fifo_as_profile_or_lock_file_is_refused_without_opening_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("profile.csv");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        return; // no mkfifo here
+    }
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let args = [
+        "report",
+        "--quick",
+        "--case",
+        "spring_mass",
+        "--out",
+        o,
+        "--profile",
+    ];
+    let out = dyncontact_within(
+        &[&args[..], &[fifo.to_str().unwrap()]].concat(),
+        Duration::from_secs(30),
+    );
+    assert_clear_error(&out, &["`--profile`", "not a regular file (a FIFO)"]);
+    std::fs::create_dir_all(dir.path().join("o")).unwrap();
+    let lock = dir.path().join("o/journal.csv.lock");
+    assert!(Command::new("mkfifo")
+        .arg(&lock)
+        .status()
+        .unwrap()
+        .success());
+    let out = dyncontact_within(
+        &["sweep", "cases/spring_mass.toml", "--quick", "--out", o],
+        Duration::from_secs(30),
+    );
+    assert_clear_error(&out, &["journal.csv.lock", "not a regular file (a FIFO)"]);
+}
+
+/// What a study would mix or drop without a word: two case files of one case (two spring_mass
+/// files of different stiffness were fitted as one series), a journal row edited to another
+/// scheme (`--resume` added a kane series to a sweep without kane), a `[[history]]` whose runs
+/// all fail (its figures vanished, exit 0) or whose time steps are not positive.
+#[test]
+fn a_study_refuses_what_it_would_mix_or_drop() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let stiff = edited(
+        dir.path(),
+        "spring_mass.toml",
+        &[("stiffness = 1.0", "stiffness = 2.0")],
+    );
+    let out = dyncontact(&[
+        "sweep",
+        "cases/spring_mass.toml",
+        &stiff,
+        "--quick",
+        "--out",
+        o,
+    ]);
+    assert_clear_error(&out, &["`case`: \"spring_mass\"", "would mix"]);
+    // A journal row edited by hand.
+    let out = dyncontact(&["sweep", "cases/spring_mass.toml", "--quick", "--out", o]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let journal = dir.path().join("o/journal.csv");
+    let text = std::fs::read_to_string(&journal).unwrap();
+    let edited_row = text.replacen(",newmark,", ",kane,", 1);
+    assert_ne!(text, edited_row);
+    std::fs::write(&journal, edited_row).unwrap();
+    let out = dyncontact(&[
+        "sweep",
+        "cases/spring_mass.toml",
+        "--quick",
+        "--resume",
+        "--out",
+        o,
+    ]);
+    assert_clear_error(&out, &["journal", "standard × kane", "not that run"]);
+    // Histories: every run refused (an alpha with newmark), or no positive time step.
+    let history = "\n[[history]]\nname = \"bad\"\nspaces = [\"standard\"]\ndts = [DT]\n\
+                   scheme = { scheme = \"newmark\", alpha = -0.1 }\n";
+    for (dt, needles) in [
+        (
+            "0.001",
+            &[
+                "block2d.toml",
+                "history.bad",
+                "every run of the table failed",
+            ][..],
+        ),
+        ("-0.001", &["block2d.toml", "history.bad.dts", "-0.001"]),
+    ] {
+        let cases = dir.path().join(format!("cases{dt}"));
+        std::fs::create_dir_all(&cases).unwrap();
+        let text = std::fs::read_to_string("cases/block2d.toml").unwrap();
+        let keep = text.split("\n[[").next().unwrap().to_string();
+        std::fs::write(
+            cases.join("block2d.toml"),
+            keep + &history.replace("DT", dt),
+        )
+        .unwrap();
+        let out = dyncontact(&[
+            "report",
+            "--quick",
+            "--cases",
+            cases.to_str().unwrap(),
+            "--out",
+            o,
+        ]);
+        assert_clear_error(&out, needles);
     }
 }
 
@@ -937,7 +1090,7 @@ fn outputs_and_sweeps_that_would_come_to_nothing_are_refused_before_the_work() {
     let empty = dir.path().join("no-cases");
     std::fs::create_dir(&empty).unwrap();
     let out = dyncontact(&["report", "--cases", empty.to_str().unwrap(), "--out", o]);
-    assert_clear_error(&out, &["`--cases`", "no case file with [[sweep]] tables"]);
+    assert_clear_error(&out, &["`--cases`", "no case file with [[sweep]] or [[history]] tables"]);
 }
 
 /// A field is named as the case file has it (`--beta 0` was `beta`, `--elements 0` on the bar

@@ -157,11 +157,15 @@ impl ObliqueSpec {
 /// +e_1), its speed `V = |(velocity, tangential_velocity)|` kept.
 fn incline(g: &mut Geometry, theta: f64) -> Result<()> {
     let speed = g.velocity.hypot(g.tangential_velocity);
-    if !(0.0..90.0).contains(&theta) || speed == 0.0 {
+    if !(0.0..90.0).contains(&theta) {
+        return Err(Error::invalid("--incidence", theta, "degrees in [0, 90)"));
+    }
+    if speed == 0.0 {
         return Err(Error::invalid(
             "--incidence",
             theta,
-            "degrees in [0, 90), for a body with an initial velocity",
+            "turns the initial velocity, and this body starts at rest (geometry.velocity and \
+             geometry.tangential_velocity are 0)",
         ));
     }
     let (s, c) = theta.to_radians().sin_cos();
@@ -596,6 +600,14 @@ impl Body {
         } else {
             None
         };
+        if hertz.is_some() && !spec.history.is_empty() {
+            return Err(Error::invalid(
+                "history",
+                spec.history.len(),
+                "a Hertz impact's report draws its impact figures: [[history]] tables would be \
+                 ignored",
+            ));
+        }
         if kind == "oblique3d" && (g.shape != "sphere" || g.velocity >= 0.0 || g.gravity != 0.0) {
             return Err(Error::invalid(
                 "geometry.velocity",

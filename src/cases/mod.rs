@@ -670,7 +670,7 @@ impl CaseFile {
             Spec::Body(_) => (&[], ""),
             Spec::TwoBodies(_) => (
                 &["--incidence"],
-                "applies to one sphere: two bodies meet head-on along e_d",
+                "applies to one body: two bodies meet head-on along e_d",
             ),
             Spec::Bar1d(_) | Spec::BarFlight(_) | Spec::TwoBars(_) => (
                 &["--mesh", "--cells", "--friction", "--incidence"],

@@ -41,12 +41,30 @@ impl HistorySpec {
         combination(space, &self.scheme, &self.degree, level, None)
     }
 
-    /// Refuses a name that cannot be part of a file name (`<case>_<name>_energy.png`).
+    /// Refuses a table that would draw nothing or misname its files: no space, no time step, a
+    /// time step that is not finite and positive, a name that cannot be part of a file name
+    /// (`<case>_<name>_energy.png`).
     pub fn validate(&self) -> Result<()> {
-        if self.name.is_empty() {
-            return Ok(());
+        let field = |f: &str| {
+            if self.name.is_empty() {
+                format!("history.{f}")
+            } else {
+                format!("history.{}.{f}", self.name)
+            }
+        };
+        if !self.name.is_empty() {
+            crate::util::check_name("history.name", &self.name)?;
         }
-        crate::util::check_name("history.name", &self.name)
+        if self.spaces.is_empty() {
+            return Err(Error::invalid(field("spaces"), "[]", "at least one space"));
+        }
+        if self.dts.is_empty() {
+            return Err(Error::invalid(field("dts"), "[]", "at least one time step"));
+        }
+        for &dt in &self.dts {
+            positive(&field("dts"), dt)?;
+        }
+        Ok(())
     }
 }
 

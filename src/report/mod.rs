@@ -80,13 +80,14 @@ fn friction_study(file: &CaseFile, out: &Path, quick: bool) -> Result<Part> {
     Ok((friction::figures(file, out, quick)?, Vec::new()))
 }
 
-/// Case files with `[[sweep]]` tables in `dir`, sorted by name, each read and parsed once.
+/// Case files with `[[sweep]]` or `[[history]]` tables in `dir`, sorted by name, each read and
+/// parsed once.
 pub fn case_files(dir: &Path) -> Result<Vec<Arc<CaseFile>>> {
     let mut out = Vec::new();
     for f in cases::case_paths(dir)? {
         let file = CaseFile::read(&f)?;
         let case = file.defaults().map_err(|e| e.in_case_file(&f))?;
-        if !case.sweeps().is_empty() {
+        if !case.sweeps().is_empty() || !case.histories().is_empty() {
             out.push(Arc::new(file));
         }
     }
@@ -110,7 +111,8 @@ fn select(files: Vec<Arc<CaseFile>>, names: &[String], dir: &Path) -> Result<Vec
                 "--case",
                 n,
                 &format!(
-                    "no case file with [[sweep]] tables of that name in {}; known: {}",
+                    "no case file with [[sweep]] or [[history]] tables of that name in {}; \
+                     known: {}",
                     dir.display(),
                     known.join(", ")
                 ),
@@ -159,9 +161,10 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
         return Err(Error::invalid(
             "--cases",
             cases_dir.display().to_string(),
-            "holds no case file with [[sweep]] tables: nothing to report",
+            "holds no case file with [[sweep]] or [[history]] tables: nothing to report",
         ));
     }
+    jobs::distinct_cases(&files)?;
     crate::util::output_dir(out, "--out")?;
     let _lock = crate::study::lock::Lock::acquire(out, "journal.csv")?;
     let mut all = Vec::new();
@@ -283,7 +286,7 @@ fn figures_estimate(file: &CaseFile, quick: bool) -> Result<Estimate> {
         }
     } else if !case.histories().is_empty() {
         for h in case.histories() {
-            h.validate()?;
+            h.validate().map_err(|e| e.in_case_file(&file.path))?;
             let dts = if quick {
                 &h.dts[..h.dts.len().min(1)]
             } else {
@@ -347,9 +350,17 @@ fn finite_body_estimate(case: &dyn Case, size: Size) -> Estimate {
 
 /// Joins record files (from `sweep --shard`) into a report in `out` (no time histories).
 pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
+    complete_shards(files)?;
     let (mut records, mut keys) = (Vec::new(), std::collections::HashMap::new());
     for f in files {
         records.extend(read_records(f, &mut keys)?);
+    }
+    if records.is_empty() {
+        return Err(Error::invalid(
+            "records",
+            files.len(),
+            "the files hold no run: nothing to report",
+        ));
     }
     // After the inputs, which are cheap to read: a bad input leaves no empty directory.
     crate::util::output_dir(out, "--out")?;
@@ -369,6 +380,46 @@ pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
         (&cases, false),
     )?;
     Ok(records)
+}
+
+/// Refuses an incomplete set of shards: when every file is named `records-<i>-of-<n>.csv` (as
+/// `sweep --shard i/n` writes them), the set must be 1..=n of one n, each once.
+fn complete_shards(files: &[PathBuf]) -> Result<()> {
+    let shard = |f: &PathBuf| -> Option<(usize, usize)> {
+        let name = f.file_name()?.to_str()?;
+        let (i, n) = name
+            .strip_prefix("records-")?
+            .strip_suffix(".csv")?
+            .split_once("-of-")?;
+        Some((i.parse().ok()?, n.parse().ok()?))
+    };
+    let Some(shards) = files.iter().map(shard).collect::<Option<Vec<_>>>() else {
+        return Ok(()); // other names: the user's own set
+    };
+    let Some(&(_, n)) = shards.first() else {
+        return Ok(());
+    };
+    let listed = |k: usize| shards.iter().filter(|s| **s == (k, n)).count();
+    let missing: Vec<String> = (1..=n)
+        .filter(|&k| listed(k) == 0)
+        .map(|k| format!("records-{k}-of-{n}.csv"))
+        .collect();
+    let foreign = shards.iter().any(|s| s.1 != n || s.0 == 0 || s.0 > n);
+    if foreign || !missing.is_empty() || shards.len() != n {
+        return Err(Error::invalid(
+            "records",
+            files.len(),
+            &format!(
+                "not the {n} shards of one sweep, each once{}",
+                if missing.is_empty() {
+                    String::new()
+                } else {
+                    format!(": missing {}", missing.join(", "))
+                }
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn write(

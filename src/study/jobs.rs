@@ -177,21 +177,38 @@ impl RunRecord {
 }
 
 /// Enumerates the jobs of every `[[sweep]]` of a case file (`--quick`: the first levels only).
+/// Refuses two case files of one case (`kind()`) in one study: records, orders and figures are
+/// keyed by the case, so their runs would mix in one fit (two spring_mass files of different
+/// stiffness were fitted as one series of six levels).
+pub fn distinct_cases(files: &[Arc<CaseFile>]) -> Result<()> {
+    let mut seen: Vec<(&'static str, &Arc<CaseFile>)> = Vec::new();
+    for f in files {
+        let kind = f.defaults().map_err(|e| e.in_case_file(&f.path))?.kind();
+        if let Some((_, first)) = seen.iter().find(|(k, _)| *k == kind) {
+            return Err(Error::invalid(
+                "case",
+                kind,
+                &format!(
+                    "given by {} and {}: a study keys its records, orders and figures by the \
+                     case, so their runs would mix (run them into separate --out directories)",
+                    first.path.display(),
+                    f.path.display()
+                ),
+            ));
+        }
+        seen.push((kind, f));
+    }
+    Ok(())
+}
+
 /// Errors on an invalid case file or sweep table, before anything runs, naming the file (and
-/// the sweep and job).
+/// the sweep and job). None for a case file without `[[sweep]]` tables.
 pub fn jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
     sweep_jobs(file, quick).map_err(|e| e.in_case_file(&file.path))
 }
 
 fn sweep_jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
     let case = file.defaults()?;
-    if case.sweeps().is_empty() {
-        return Err(Error::invalid(
-            "sweep",
-            file.path.display().to_string(),
-            "the case file has no [[sweep]] table",
-        ));
-    }
     let mut out = Vec::new();
     for s in case.sweeps() {
         let in_sweep = |e: Error| e.context(format!("sweep `{}`", s.name));

@@ -271,6 +271,18 @@ pub fn run_study_with<R: Send>(
                 .ok_or_else(|| {
                     JOURNAL.error(&journal.path, format!("no record for run {}", j.key))
                 })?;
+            // A row edited by hand would lend its key to another run.
+            let (s, o) = (&r.summary, (&j.sweep, &j.space, &j.choice.scheme, j.level));
+            if (&r.sweep, &s.space, &s.scheme, r.level) != o {
+                return Err(JOURNAL.error(
+                    &journal.path,
+                    format!(
+                        "the row of run {} is of sweep `{}`, {} × {}, level {}: not that run \
+                         (edited by hand? remove the row, or run without --resume)",
+                        j.key, r.sweep, s.space, s.scheme, r.level
+                    ),
+                ));
+            }
             r.probe = read_probe(&journal.path, &j.key)?;
             Ok(r)
         })

@@ -26,6 +26,11 @@ impl Lock {
     pub fn acquire(dir: &Path, journal: &str) -> Result<Self> {
         let path = dir.join(format!("{journal}.lock"));
         let io = |e: std::io::Error| Error::io(&path, e);
+        if let Some(kind) = crate::input::not_regular(&path) {
+            return Err(io(std::io::Error::other(format!(
+                "not a regular file ({kind}): remove it, or write into another directory"
+            ))));
+        }
         loop {
             let mut file = std::fs::OpenOptions::new()
                 .read(true)

@@ -29,6 +29,13 @@ pub fn start(path: &Path) -> Result<()> {
             &format!("cannot be written: {e}"),
         )
     };
+    if let Some(kind) = crate::input::not_regular(path) {
+        return Err(Error::invalid(
+            "--profile",
+            path.display().to_string(),
+            &format!("not a regular file ({kind}): refused"),
+        ));
+    }
     let mut file = std::fs::File::create(path).map_err(refuse)?;
     writeln!(
         file,

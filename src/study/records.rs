@@ -159,9 +159,10 @@ pub fn read_rows(
                 return Ok(None);
             }
             match t.parse::<f64>() {
-                // Records write an absent value as an empty field, never as NaN.
-                Ok(v) if v.is_nan() => Err(err(format!(
-                    "{}: `{t}` (an absent value is an empty field)",
+                // Records write an absent value as an empty field, and every value finite (a
+                // run that goes non-finite stops as `diverged`).
+                Ok(v) if !v.is_finite() => Err(err(format!(
+                    "{}: `{t}` (values are finite; an absent value is an empty field)",
                     at(name)
                 ))),
                 Ok(v) => Ok(Some(v)),

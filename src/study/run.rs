@@ -144,15 +144,18 @@ pub fn run_with_output(
         let (dofs, status) = result
             .as_ref()
             .map_or((0, "error"), |r| (r.summary.dofs, "ok"));
+        // A 0D case has no h (NaN): left out rather than written as NaN.
+        let h = Some(case.h())
+            .filter(|h| !h.is_nan())
+            .map_or(String::new(), |h| format!(" h={h:.4e}"));
         t.stop(
             "run",
             &format!(
-                "{} {} {} {} h={:.4e} dt={:.4e} steps={} dofs={dofs} {status}",
+                "{} {} {} {}{h} dt={:.4e} steps={} dofs={dofs} {status}",
                 case.kind(),
                 spec.space,
                 spec.scheme,
                 spec.parameters().unwrap_or_default(),
-                case.h(),
                 spec.dt,
                 spec.steps()
             ),
