@@ -1090,7 +1090,13 @@ fn outputs_and_sweeps_that_would_come_to_nothing_are_refused_before_the_work() {
     let empty = dir.path().join("no-cases");
     std::fs::create_dir(&empty).unwrap();
     let out = dyncontact(&["report", "--cases", empty.to_str().unwrap(), "--out", o]);
-    assert_clear_error(&out, &["`--cases`", "no case file with [[sweep]] or [[history]] tables"]);
+    assert_clear_error(
+        &out,
+        &[
+            "`--cases`",
+            "no case file with [[sweep]] or [[history]] tables",
+        ],
+    );
 }
 
 /// A field is named as the case file has it (`--beta 0` was `beta`, `--elements 0` on the bar
