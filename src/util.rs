@@ -39,35 +39,58 @@ pub fn content_hash(bytes: &[u8]) -> String {
 
 /// Memory this process can still allocate (bytes): the least of what the system can give
 /// (`MemAvailable` of `/proc/meminfo`), what its address-space limit leaves (`ulimit -v`: the
-/// soft `Max address space` of `/proc/self/limits` less `VmSize`) and what its memory cgroup
-/// leaves (a batch scheduler's limit: `memory.max` less `memory.current`, or cgroup v1's
-/// `memory.limit_in_bytes` less `memory.usage_in_bytes`, the usage without the reclaimable
-/// file cache, `inactive_file` of `memory.stat`); `None` where none can be read.
+/// soft `Max address space` of `/proc/self/limits` less `VmSize`) and what its memory cgroups
+/// leave ([`cgroup_memory_left`]: a batch scheduler's limit); `None` where none can be read.
 pub fn available_memory() -> Option<f64> {
     let system = proc_field("/proc/meminfo", "MemAvailable:").map(|kib| kib * 1024.0);
     let address_space = address_space_limit()
         .zip(proc_field("/proc/self/status", "VmSize:"))
         .map(|(limit, kib)| (limit - kib * 1024.0).max(0.0));
-    let cgroup = [
-        ("", "memory.max", "memory.current", "inactive_file "),
-        (
-            "memory/",
-            "memory.limit_in_bytes",
-            "memory.usage_in_bytes",
-            "total_inactive_file ",
-        ),
-    ]
-    .into_iter()
-    .filter_map(|(dir, limit, usage, cache)| {
-        let path = |f: &str| format!("/sys/fs/cgroup/{dir}{f}");
-        let cache = proc_field(&path("memory.stat"), cache).unwrap_or(0.0);
-        Some((number_in(&path(limit))? - number_in(&path(usage))? + cache).max(0.0))
-    })
-    .reduce(f64::min);
-    [system, address_space, cgroup]
+    [system, address_space, cgroup_memory_left()]
         .into_iter()
         .flatten()
         .reduce(f64::min)
+}
+
+/// The least memory left under this process's memory cgroup and its ancestors (from
+/// `/proc/self/cgroup`): the limit less the usage without the page cache, which the kernel
+/// reclaims (cgroup v2: `memory.max`, `memory.current`, `file` of `memory.stat`; v1:
+/// `memory.limit_in_bytes`, `memory.usage_in_bytes`, `total_cache`). `None` without a limit.
+fn cgroup_memory_left() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/self/cgroup").ok()?;
+    let mut least: Option<f64> = None;
+    for line in text.lines() {
+        let mut parts = line.splitn(3, ':');
+        let (Some(_), Some(controllers), Some(path)) = (parts.next(), parts.next(), parts.next())
+        else {
+            continue;
+        };
+        let (root, limit, usage, cache) = if controllers.is_empty() {
+            ("/sys/fs/cgroup", "memory.max", "memory.current", "file ")
+        } else if controllers.split(',').any(|c| c == "memory") {
+            (
+                "/sys/fs/cgroup/memory",
+                "memory.limit_in_bytes",
+                "memory.usage_in_bytes",
+                "total_cache ",
+            )
+        } else {
+            continue;
+        };
+        let mut dir = std::path::Path::new(root).join(path.trim_start_matches('/'));
+        loop {
+            let file = |f: &str| dir.join(f).display().to_string();
+            if let (Some(l), Some(u)) = (number_in(&file(limit)), number_in(&file(usage))) {
+                let cached = proc_field(&file("memory.stat"), cache).unwrap_or(0.0);
+                let left = (l - (u - cached).max(0.0)).max(0.0);
+                least = Some(least.map_or(left, |m| m.min(left)));
+            }
+            if dir == std::path::Path::new(root) || !dir.pop() {
+                break;
+            }
+        }
+    }
+    least
 }
 
 /// The number after `key` on its line of the file `path` (kiB in `/proc`'s, bytes in a
@@ -103,7 +126,7 @@ pub fn check_memory(field: &str, value: impl std::fmt::Debug, bytes: f64) -> cra
             value,
             &format!(
                 "the run would need about {:.1} GiB, more than the {:.1} GiB available \
-                 (free memory, ulimit -v and the memory cgroup's limit)",
+                 (free memory, ulimit -v and the memory cgroups' limits)",
                 bytes / GIB,
                 avail / GIB
             ),
@@ -272,6 +295,9 @@ mod tests {
         let Some(avail) = available_memory() else {
             return;
         };
+        // Never more than the system's free memory, never nothing on a machine that runs.
+        let system = proc_field("/proc/meminfo", "MemAvailable:").map(|kib| kib * 1024.0);
+        assert!(avail > 0.0 && system.is_none_or(|s| avail <= s), "{avail}");
         assert!(check_memory("mesh.elements", 10, avail / 2.0).is_ok());
         let e = check_memory("mesh.elements", 10, 2.0 * avail)
             .unwrap_err()

@@ -273,11 +273,11 @@ fn assembly_bytes(element: &RefElement, cells: f64, nodes: f64) -> f64 {
     cells * local * local * 24.0 + 3.0 * nodes * coupled * 16.0
 }
 
-/// Cells of a box along each direction: `n` along the first, the others in proportion to the
-/// size (at least 1).
 /// The largest ratio of a generated box cell's edges (geometry.size against mesh.elements).
 pub const MAX_ASPECT: f64 = 1e6;
 
+/// Cells of a box along each direction: `n` along the first, the others in proportion to the
+/// size (at least 1).
 fn box_cells(g: &Geometry, dim: usize, n: usize) -> [usize; 3] {
     let mut cells = [1; 3];
     for (c, s) in cells.iter_mut().zip(&g.size).take(dim) {

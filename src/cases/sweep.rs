@@ -41,17 +41,26 @@ impl HistorySpec {
         combination(space, &self.scheme, &self.degree, level, None)
     }
 
+    /// The table (`history.<name>`, or `history` unnamed), or its field `f` when not empty, as
+    /// named in errors.
+    pub fn field(&self, f: &str) -> String {
+        let table = if self.name.is_empty() {
+            "history".to_string()
+        } else {
+            format!("history.{}", self.name)
+        };
+        if f.is_empty() {
+            table
+        } else {
+            format!("{table}.{f}")
+        }
+    }
+
     /// Refuses a table that would draw nothing or misname its files: no space, no time step, a
     /// time step that is not finite and positive, a name that cannot be part of a file name
     /// (`<case>_<name>_energy.png`).
     pub fn validate(&self) -> Result<()> {
-        let field = |f: &str| {
-            if self.name.is_empty() {
-                format!("history.{f}")
-            } else {
-                format!("history.{}.{f}", self.name)
-            }
-        };
+        let field = |f: &str| self.field(f);
         if !self.name.is_empty() {
             crate::util::check_name("history.name", &self.name)?;
         }

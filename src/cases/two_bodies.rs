@@ -193,26 +193,18 @@ fn gmsh_bodies(
     let Some(file) = o.mesh.as_ref().or(spec.mesh.file.as_ref()) else {
         return Ok(None);
     };
-    // The file gives body 2's shape and mesh: a [master] that describes others would be ignored.
-    let shaped = m.geometry.as_ref().is_some_and(|g| {
-        let b = &spec.geometry;
-        (&g.shape, &g.size, g.radius) != (&b.shape, &b.size, b.radius)
-    });
-    for (field, ignored) in [
-        ("master.mesh", m.mesh.is_some()),
-        ("master.geometry", shaped),
-    ] {
-        if ignored {
-            return Err(Error::invalid(
-                field,
-                "a shape or mesh of body 2",
-                &format!(
-                    "the Gmsh file {} gives both bodies' shapes and meshes (groups body1, \
-                     body2): this table would be ignored",
-                    file.display()
-                ),
-            ));
-        }
+    // The file gives body 2's mesh: a [master.mesh] would be ignored ([master.geometry] is not:
+    // its velocity, gravity and radius are body 2's).
+    if m.mesh.is_some() {
+        return Err(Error::invalid(
+            "master.mesh",
+            "a mesh of body 2",
+            &format!(
+                "the Gmsh file {} gives both bodies' meshes (groups body1, body2): this table \
+                 would be ignored",
+                file.display()
+            ),
+        ));
     }
     let groups = [Some(&spec.contact), m.contact.as_ref()]
         .into_iter()

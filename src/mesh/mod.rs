@@ -163,22 +163,22 @@ impl Mesh {
         flag
     }
 
+    /// The number of node `i` in messages: its tag in the mesh file, or its index.
+    fn node_tag(&self, i: usize) -> u64 {
+        self.tags
+            .as_ref()
+            .and_then(|t| t.nodes.get(i))
+            .map_or(i as u64, |&n| n)
+    }
+
     /// `node 9` for the node of index `i`, by its tag in the mesh file when there is one.
     pub fn node_name(&self, i: usize) -> String {
-        match &self.tags {
-            Some(t) => format!("node {}", t.nodes.get(i).map_or(i as u64, |&n| n)),
-            None => format!("node {i}"),
-        }
+        format!("node {}", self.node_tag(i))
     }
 
     /// The nodes `list` as the mesh file numbers them.
     fn node_list(&self, list: &[usize]) -> Vec<u64> {
-        list.iter()
-            .map(|&i| match &self.tags {
-                Some(t) => t.nodes.get(i).map_or(i as u64, |&n| n),
-                None => i as u64,
-            })
-            .collect()
+        list.iter().map(|&i| self.node_tag(i)).collect()
     }
 
     /// `element 3` (a mesh file's tag) or `cell 0` (a generated mesh's index) for cell `c`.

@@ -575,11 +575,7 @@ fn history_panels(
     if figures.is_empty() {
         // Every run failed: nothing to draw, and a table that vanished without a word.
         return Err(crate::Error::invalid(
-            if h.name.is_empty() {
-                "history".to_string()
-            } else {
-                format!("history.{}", h.name)
-            },
+            h.field(""),
             h.spaces.join(", "),
             &format!("every run of the table failed:{notes}"),
         )

@@ -382,8 +382,10 @@ pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
     Ok(records)
 }
 
-/// Refuses an incomplete set of shards: when every file is named `records-<i>-of-<n>.csv` (as
-/// `sweep --shard i/n` writes them), the set must be 1..=n of one n, each once.
+/// Refuses an incomplete set of shards: among the files named `records-<i>-of-<n>.csv` (as
+/// `sweep --shard i/n` writes them, into one directory or one each), every i of 1..=n of one n
+/// must come equally often: once for one sweep, k times for k sweeps sharded alike (their keys
+/// differ; the same shard twice is a repeated key). Files of other names are the user's own.
 fn complete_shards(files: &[PathBuf]) -> Result<()> {
     let shard = |f: &PathBuf| -> Option<(usize, usize)> {
         let name = f.file_name()?.to_str()?;
@@ -391,33 +393,30 @@ fn complete_shards(files: &[PathBuf]) -> Result<()> {
             .strip_prefix("records-")?
             .strip_suffix(".csv")?
             .split_once("-of-")?;
-        Some((i.parse().ok()?, n.parse().ok()?))
+        Some((n.parse().ok()?, i.parse().ok()?))
     };
-    let Some(shards) = files.iter().map(shard).collect::<Option<Vec<_>>>() else {
-        return Ok(()); // other names: the user's own set
-    };
-    let Some(&(_, n)) = shards.first() else {
-        return Ok(());
-    };
-    let listed = |k: usize| shards.iter().filter(|s| **s == (k, n)).count();
-    let missing: Vec<String> = (1..=n)
-        .filter(|&k| listed(k) == 0)
-        .map(|k| format!("records-{k}-of-{n}.csv"))
-        .collect();
-    let foreign = shards.iter().any(|s| s.1 != n || s.0 == 0 || s.0 > n);
-    if foreign || !missing.is_empty() || shards.len() != n {
-        return Err(Error::invalid(
-            "records",
-            files.len(),
-            &format!(
-                "not the {n} shards of one sweep, each once{}",
-                if missing.is_empty() {
-                    String::new()
-                } else {
-                    format!(": missing {}", missing.join(", "))
-                }
-            ),
-        ));
+    let mut shards: Vec<(usize, usize)> = files.iter().filter_map(shard).collect();
+    shards.sort_unstable();
+    for group in shards.chunk_by(|a, b| a.0 == b.0) {
+        let n = group[0].0;
+        let count = |k: usize| group.iter().filter(|s| s.1 == k).count();
+        let counts: Vec<usize> = (1..=n).map(count).collect();
+        let most = counts.iter().copied().max().unwrap_or(0);
+        if group.iter().any(|s| s.1 == 0 || s.1 > n) || counts.iter().any(|&c| c != most) {
+            let missing: Vec<String> = (1..=n)
+                .filter(|&k| count(k) < most)
+                .map(|k| format!("records-{k}-of-{n}.csv"))
+                .collect();
+            return Err(Error::invalid(
+                "records",
+                format!("records-*-of-{n}.csv"),
+                &format!(
+                    "not the {n} shards of a sweep, each as often (given: {:?}; missing: {})",
+                    group.iter().map(|s| s.1).collect::<Vec<_>>(),
+                    missing.join(", ")
+                ),
+            ));
+        }
     }
     Ok(())
 }
@@ -449,4 +448,52 @@ fn write(
             quick,
         },
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Shards of one sweep in one directory or one each, and two sweeps sharded alike, merge;
+    /// a missing or repeated shard does not; other names are the user's own set.
+    #[test]
+    fn every_shard_of_a_sweep_comes_equally_often() {
+        let set = |names: &[&str]| -> Vec<PathBuf> { names.iter().map(PathBuf::from).collect() };
+        for ok in [
+            &["s/records-1-of-2.csv", "s/records-2-of-2.csv"][..],
+            &["a/records-1-of-2.csv", "b/records-2-of-2.csv"],
+            &[
+                "a/records-1-of-2.csv",
+                "a/records-2-of-2.csv",
+                "b/records-2-of-2.csv",
+                "b/records-1-of-2.csv",
+            ],
+            &["records-1-of-1.csv", "mine.csv"],
+            &["mine.csv", "yours.csv"],
+        ] {
+            assert!(complete_shards(&set(ok)).is_ok(), "{ok:?}");
+        }
+        for (bad, missing) in [
+            (&["records-1-of-2.csv"][..], "records-2-of-2.csv"),
+            (&["records-1-of-2.csv", "mine.csv"], "records-2-of-2.csv"),
+            (
+                &[
+                    "a/records-1-of-2.csv",
+                    "b/records-1-of-2.csv",
+                    "records-2-of-2.csv",
+                ],
+                "records-2-of-2.csv",
+            ),
+            (
+                &["records-3-of-2.csv", "records-1-of-2.csv"],
+                "records-2-of-2.csv",
+            ),
+        ] {
+            let e = complete_shards(&set(bad)).unwrap_err().to_string();
+            assert!(
+                e.contains("not the 2 shards") && e.contains(missing),
+                "{bad:?}: {e}"
+            );
+        }
+    }
 }

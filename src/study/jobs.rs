@@ -375,7 +375,13 @@ fn failed_summary(job: &Job, case: Option<&dyn Case>) -> Summary {
         .unwrap_or_default();
     let element = case.and_then(|c| c.element());
     Summary {
-        case: case.map_or("", |c| c.kind()).to_string(),
+        // The case file's kind even when this run's case failed to build (a mesh beyond the
+        // memory): the case column names the report's files.
+        case: match case {
+            Some(c) => c.kind(),
+            None => job.file.defaults().map_or("", |c| c.kind()),
+        }
+        .to_string(),
         space: job.space.clone(),
         scheme: job.choice.scheme.clone(),
         parameters,

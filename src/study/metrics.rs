@@ -183,6 +183,18 @@ impl Metrics {
         }
     }
 
+    /// Every metric that is not finite made absent (NaN for the ones that always apply, written
+    /// as an empty field): a ratio over a near-zero reference that overflows (a tangential
+    /// restitution over a subnormal tangential speed) measures nothing, and the states of the
+    /// run are finite (a non-finite one stops it as diverged).
+    pub fn drop_non_finite(&mut self) {
+        for c in METRIC_COLUMNS {
+            if (c.get)(self).is_some_and(|v| !v.is_finite()) {
+                (c.set)(self, None);
+            }
+        }
+    }
+
     /// Metrics of a run that did not finish: NaN or absent everywhere.
     pub fn unavailable() -> Self {
         Self {
@@ -499,6 +511,24 @@ fn first_impact(rows: &[Row]) -> (Option<f64>, Option<f64>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A ratio over a subnormal reference (a tangential restitution over a tangential speed of
+    /// 1e-322) overflowed into `-inf`, which the journal then refused to read back.
+    #[test]
+    fn a_metric_that_overflows_is_absent() {
+        let mut m = Metrics {
+            energy_drift: f64::INFINITY,
+            tangential_restitution: Some(f64::NEG_INFINITY),
+            rebound_spin: Some(0.5),
+            ..Metrics::default()
+        };
+        m.drop_non_finite();
+        assert!(m.energy_drift.is_nan());
+        assert_eq!(
+            (m.tangential_restitution, m.rebound_spin),
+            (None, Some(0.5))
+        );
+    }
 
     /// The README's spring example: one impact step dips the midpoint energy to 0.99 of E(0),
     /// while it holds to 2.5e-5 elsewhere; the headline is the latter, the other beside it.

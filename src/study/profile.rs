@@ -29,7 +29,9 @@ pub fn start(path: &Path) -> Result<()> {
             &format!("cannot be written: {e}"),
         )
     };
-    if let Some(kind) = crate::input::not_regular(path) {
+    // A FIFO would block the open until a reader comes; a device (/dev/null, a terminal's
+    // /dev/stdout) takes the lines.
+    if let Some(kind @ ("a FIFO" | "a directory")) = crate::input::not_regular(path) {
         return Err(Error::invalid(
             "--profile",
             path.display().to_string(),

@@ -169,12 +169,13 @@ pub fn read_rows(
                 Err(e) => Err(err(format!("{}: {e}", at(name)))),
             }
         };
-        // A size of the run: finite and positive (dt, h) or not negative (time, memory).
+        // A size of the run (finite, by `float`): positive (dt, h) or not negative (time,
+        // memory).
         let size = |name: &str, zero: bool| -> Result<Option<f64>> {
             let v = float(name)?;
             match v {
-                Some(x) if !x.is_finite() || x < 0.0 || (x == 0.0 && !zero) => Err(err(format!(
-                    "{}: {x} (must be finite and {})",
+                Some(x) if x < 0.0 || (x == 0.0 && !zero) => Err(err(format!(
+                    "{}: {x} (must be {})",
                     at(name),
                     if zero { "≥ 0" } else { "> 0" }
                 ))),
@@ -196,11 +197,14 @@ pub fn read_rows(
                 known.join(", ")
             ))
         })?;
-        // The case and the sweep name the report's files: plain names, no `/` nor `..`.
+        // The case and the sweep name the report's files: plain names, no `/` nor `..` (an
+        // empty case: a run whose case failed to build, written so before 2026-11-29).
         let name = |column: &str| -> Result<String> {
             let value = text(column);
-            crate::util::check_name(column, &value)
-                .map_err(|e| err(format!("{}: {e}", at(column))))?;
+            if !(column == "case" && value.is_empty()) {
+                crate::util::check_name(column, &value)
+                    .map_err(|e| err(format!("{}: {e}", at(column))))?;
+            }
             Ok(value)
         };
         let (case, sweep) = (name("case")?, name("sweep")?);

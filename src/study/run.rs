@@ -348,6 +348,7 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
     if let Some(masses) = masses {
         metrics::oblique(&mut metrics, &rows, masses);
     }
+    metrics.drop_non_finite();
     peak.lambda = vertex_lambda;
     Ok(RunResult {
         rows,

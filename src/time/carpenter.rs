@@ -17,9 +17,9 @@
 //! solved in closed form, `λ_i = max(0, −g*_i / (Δt² W_ii))` (FrontISTR's Jacobi loop is exact
 //! then, and so is the default active set); rows sharing dofs (weak multipliers on faces), a
 //! formulation's modified law (penalty) or another `--contact-solver` asked for take the LCP
-//! solver on the dense `Δt² W`. Stable below the
-//! contact-free CFL limit `2/ω_max(M⁻¹K)` (the correction is a projection of the increment, not a
-//! stiffness), refused above [`super::step::cfl::CFL_SAFETY`] times it.
+//! solver on the dense `Δt² W`. Stable below the contact-free CFL limit `2/ω_max(M⁻¹K)` (the
+//! correction is a projection of the increment, not a stiffness), refused above
+//! [`super::step::cfl::CFL_SAFETY`] times it.
 //!
 //! **Relation to [`super::central_difference`]**: on a nonsingular mass that scheme *is* this
 //! method — its `λ_{n+1}` is this λ_n, the same force in the same equation, named by the level it

@@ -51,8 +51,8 @@ pub fn critical_time_step(
     })
 }
 
-/// Refuses `run.dt` above `dt_max` (already scaled by [`CFL_SAFETY`]) for `scheme`, naming the limit
-/// and what sets it (`of`: "this mesh and mass", …).
+/// Refuses `run.dt` above `dt_max` (already scaled by [`CFL_SAFETY`]) for `scheme`, naming the
+/// limit and what sets it (`of`: "this mesh and mass", …).
 pub fn check_time_step(scheme: &str, dt: f64, dt_max: f64, of: &str) -> Result<()> {
     if dt > dt_max {
         return Err(Error::invalid(
