@@ -399,6 +399,11 @@ fn sweep_tables_that_would_ignore_a_field_or_misname_a_file_are_refused_first() 
             &["sweep.orders.spaces`: \"standard\"", "listed twice"],
         ),
         (
+            "quick_levels = 3",
+            "quick_levels = 3\nfriction = -1.0",
+            &["sweep.orders.friction`: -1.0"],
+        ),
+        (
             "name = \"orders\"",
             "name = \"a/b\"",
             &["sweep.name`: \"a/b\"", "part of file names"],
@@ -577,6 +582,36 @@ fn fields_that_break_or_do_nothing_are_named_themselves() {
             &["--incidence", "30"],
             &["`--incidence`: 30.0", "starts at rest"],
         ),
+        // A bar 2 of 1e-16 panicked building the exact solution (1e-6: minutes).
+        (
+            edited(
+                &own("short"),
+                "two_bars.toml",
+                &[("[1.0, 1.0]", "[1.0, 1e-16]")],
+            ),
+            &[],
+            &["`geometry.lengths[1]`: 1e-16", "crossings"],
+        ),
+        // Hertz errors were computed for a box.
+        (
+            edited(
+                &own("box"),
+                "hertz2d.toml",
+                &[("shape = \"disc\"", "shape = \"box\"\nsize = [1.0, 1.0]")],
+            ),
+            &[],
+            &["`geometry.shape`: \"box\"", "curved body"],
+        ),
+        // Body 2's tables were named as body 1's.
+        (
+            edited(
+                &own("master"),
+                "slide_on_block2d.toml",
+                &[("elements = 12", "elements = 0")],
+            ),
+            &[],
+            &["`master.mesh.elements`: 0"],
+        ),
         // An initial state that overflows: step 0 says so.
         (
             block("fast", "velocity = -0.1", "velocity = -1e200"),
@@ -590,6 +625,24 @@ fn fields_that_break_or_do_nothing_are_named_themselves() {
     ] {
         assert_clear_error(&run(&case, extra), needles);
     }
+    // A diverged run wrote the non-finite sample's ParaView file (von_mises inf) first.
+    let heavy = block("heavy", "gravity = 0.0", "gravity = 1e300");
+    let fields = dir.path().join("fields");
+    let vtu = [
+        "--t-end",
+        "0.01",
+        "--elements",
+        "2",
+        "--vtu",
+        fields.to_str().unwrap(),
+    ];
+    assert_clear_error(&run(&heavy, &vtu), &["diverged at step 1"]);
+    let written: Vec<String> = std::fs::read_dir(&fields)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".vtu"))
+        .collect();
+    assert_eq!(written, ["block2d_000000.vtu"]);
 }
 
 /// A FIFO where a study writes its profile or its lock file blocked forever (opening it for

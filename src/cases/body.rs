@@ -575,6 +575,14 @@ impl Body {
                 )
             })?;
             positive("geometry.radius", radius)?;
+            if g.shape == "box" {
+                return Err(Error::invalid(
+                    "geometry.shape",
+                    &g.shape,
+                    "Hertz theory is of a curved body: a disc (2D) or a sphere (3D), of \
+                     geometry.radius",
+                ));
+            }
             if g.velocity >= 0.0 {
                 return Err(Error::invalid(
                     "geometry.velocity",

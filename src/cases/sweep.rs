@@ -153,6 +153,9 @@ impl SweepSpec {
         if self.spaces.is_empty() {
             return Err(Error::invalid(field("spaces"), "[]", "at least one space"));
         }
+        if let Some(mu) = self.friction {
+            crate::error::non_negative(&field("friction"), mu)?;
+        }
         if let Some(twice) = crate::util::first_repeated(&self.spaces) {
             return Err(Error::invalid(field("spaces"), twice, "listed twice"));
         }

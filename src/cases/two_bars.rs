@@ -64,6 +64,9 @@ pub struct TwoBars {
     sweeps: Vec<super::sweep::SweepSpec>,
 }
 
+/// The most wave crossings of a bar the exact solution follows (`t_end·c/L`; about 6 s at 10⁵).
+pub const MAX_CROSSINGS: f64 = 1e5;
+
 impl TwoBars {
     /// Validates the spec, applies the overrides and builds the discretisations.
     pub fn from_spec(spec: TwoBarsSpec, o: &Overrides) -> Result<Self> {
@@ -80,6 +83,22 @@ impl TwoBars {
         let [l1, l2] = spec.geometry.lengths;
         bar2_elements(elements, degree, [l1, l2])?;
         m.check_time_scale(l1 / elements.max(1) as f64, run.dt)?;
+        // The exact solution follows the waves across each bar, t_end·c/L crossings: a bar this
+        // short against t_end took minutes (L₂ = 1e-6) or panicked (L₂ ≤ 1e-15) building it.
+        let c = (m.young / m.density).sqrt();
+        for (k, l) in [l1, l2].into_iter().enumerate() {
+            let crossings = run.t_end * c / l;
+            if crossings > MAX_CROSSINGS {
+                return Err(Error::invalid(
+                    format!("geometry.lengths[{k}]"),
+                    l,
+                    &format!(
+                        "the exact solution follows the waves across each bar: t_end·c/L = \
+                         {crossings:.3e} crossings of this one, above {MAX_CROSSINGS:e}"
+                    ),
+                ));
+            }
+        }
         let exact = Exact::new(
             [l1, l2],
             m.young,

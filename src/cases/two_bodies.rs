@@ -383,7 +383,17 @@ impl TwoBodies {
                 spec.contact.clone(),
                 read1,
             )?,
-            part(material2.clone(), geometry2, mesh2, contact2, read2)?,
+            // Body 1's tables passed: what fails here is [master]'s, named so.
+            part(material2.clone(), geometry2, mesh2, contact2, read2).map_err(|e| {
+                e.with_field(|f| {
+                    let table = ["material.", "geometry.", "mesh.", "contact."];
+                    if table.iter().any(|t| f.starts_with(t)) {
+                        format!("master.{f}")
+                    } else {
+                        f.to_string()
+                    }
+                })
+            })?,
         ];
         for (p, field) in parts
             .iter()

@@ -242,6 +242,11 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
                 let (mut peak, mut f_peak) = (Peak::default(), 0.0);
                 for (index, snap) in rx.into_iter().enumerate() {
                     let s = snap.state();
+                    // Checked before any output of the sample: no field file of a NaN.
+                    let row = probe_row(problem, &mut probe, &s, exact);
+                    if let Some((what, value)) = row.non_finite() {
+                        return Err(diverged(index, s.t, what, value));
+                    }
                     if let Some(out) = vtu.as_mut() {
                         match bodies {
                             Some(b) => {
@@ -267,10 +272,6 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
                                 },
                             )?,
                         }
-                    }
-                    let row = probe_row(problem, &mut probe, &s, exact);
-                    if let Some((what, value)) = row.non_finite() {
-                        return Err(diverged(index, s.t, what, value));
                     }
                     if probe.centre.is_some() && row.force_contact > f_peak {
                         f_peak = row.force_contact;
