@@ -47,7 +47,9 @@ impl Options {
 
     /// LCP solver name (default `active_set`).
     pub fn contact_solver(&self) -> &str {
-        self.contact_solver.as_deref().unwrap_or("active_set")
+        self.contact_solver
+            .as_deref()
+            .unwrap_or(crate::contact::DEFAULT_SOLVER)
     }
 
     /// The contact solver of a run with or without Coulomb friction: the one set, else

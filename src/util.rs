@@ -43,7 +43,8 @@ pub fn content_hash(bytes: &[u8]) -> String {
 /// leave ([`cgroup_memory_left`]: a batch scheduler's limit); `None` where none can be read.
 pub fn available_memory() -> Option<f64> {
     let system = proc_field("/proc/meminfo", "MemAvailable:").map(|kib| kib * 1024.0);
-    let address_space = address_space_limit()
+    // The soft `Max address space` (bytes; `None` when unlimited).
+    let address_space = proc_field("/proc/self/limits", "Max address space")
         .zip(proc_field("/proc/self/status", "VmSize:"))
         .map(|(limit, kib)| (limit - kib * 1024.0).max(0.0));
     [system, address_space, cgroup_memory_left()]
@@ -93,23 +94,12 @@ fn cgroup_memory_left() -> Option<f64> {
     least
 }
 
-/// The number after `key` on its line of the file `path` (kiB in `/proc`'s, bytes in a
-/// cgroup's `memory.stat`).
+/// The number after `key` on its line of the file `path` (kiB in `/proc`'s status files, bytes
+/// in `/proc/self/limits` and a cgroup's `memory.stat`); `None` for `unlimited` or unreadable.
 fn proc_field(path: &str, key: &str) -> Option<f64> {
     let text = std::fs::read_to_string(path).ok()?;
     let line = text.lines().find(|l| l.starts_with(key))?;
     line[key.len()..].split_whitespace().next()?.parse().ok()
-}
-
-/// The soft `Max address space` of this process (bytes); `None` when unlimited or unreadable.
-fn address_space_limit() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/self/limits").ok()?;
-    let line = text.lines().find(|l| l.starts_with("Max address space"))?;
-    line["Max address space".len()..]
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()
 }
 
 /// The number a whole file holds (a cgroup's limit or usage); `None` for `max` or unreadable.

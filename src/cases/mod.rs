@@ -278,11 +278,12 @@ impl RunSpec {
             (true, Some(law)) => Some(format!("scheme {} applies {law}", scheme.name())),
             (true, None) => None,
         };
-        if let (Some(why), true) = (own, self.options.contact_solver() != "active_set") {
+        let default = crate::contact::DEFAULT_SOLVER;
+        if let (Some(why), true) = (own, self.options.contact_solver() != default) {
             return Err(Error::invalid(
                 "run.contact_solver",
                 self.options.contact_solver(),
-                &format!("{why}, not through an LCP solver (leave the default, active_set)"),
+                &format!("{why}, not through an LCP solver (leave the default, {default})"),
             ));
         }
         crate::contact::by_name(self.options.contact_solver(), 0)?;

@@ -162,6 +162,10 @@ pub const FORMULATIONS: &[Entry<dyn Formulation, Options>] =
 /// Default formulation.
 pub const DEFAULT_FORMULATION: &str = "nodal";
 
+/// Default LCP solver (`--contact-solver`): the one the cg step and carpenter's closed form
+/// are exact for.
+pub const DEFAULT_SOLVER: &str = "active_set";
+
 /// The registry entry of the formulation called `name`.
 pub fn formulation_entry(name: &str) -> Result<&'static Entry<dyn Formulation, Options>> {
     crate::param::find(FORMULATIONS, "contact formulation", name)

@@ -89,7 +89,7 @@ impl Scheme for Carpenter {
         let x = explicit::start(problem, dt, solvers.linear, (self.name(), OTHERWISE), 0.0)?;
         let h2 = x.dt * x.dt;
         let closed_form = solvers.contact.signorini()
-            && solvers.contact.name() == "active_set"
+            && solvers.contact.name() == crate::contact::DEFAULT_SOLVER
             && shared_dof(&x.rows, problem.n()).is_none();
         let law = if closed_form {
             Law::ClosedForm(x.delassus().iter().map(|w| 1.0 / (h2 * w)).collect())

@@ -132,7 +132,7 @@ impl ContactStep {
         let compliance = solvers.contact.compliance();
         // The cg step solves Signorini's law by its own active set: another solver of the LCP
         // (clarabel, de_saxce, …) would be ignored, so auto takes the direct step for it.
-        let own = solvers.contact.name() == "active_set";
+        let own = solvers.contact.name() == crate::contact::DEFAULT_SOLVER;
         let cg = match solvers.linear {
             LinearSolver::Direct => false,
             LinearSolver::Cg if !signorini && compliance.is_none() => {
