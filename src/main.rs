@@ -2,8 +2,8 @@
 
 use clap::{Parser, Subcommand};
 use dyncontact::cases::{self, Overrides};
-use dyncontact::study::{jobs, journal, orders, records, reference, run};
-use dyncontact::Result;
+use dyncontact::study::{jobs, journal, metrics, orders, records, reference, run};
+use dyncontact::{Error, Result};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -376,7 +376,20 @@ fn main_result(cli: Cli) -> Result<()> {
             if let Some(f) = &fields {
                 say!("wrote {}/{}.pvd", f.dir.display(), s.case);
             }
-            Ok(())
+            // Finite but blown up: written (the curves show it), and refused as a study does.
+            let blowup = metrics::first_blowup(&result.rows, jobs::BLOWUP_FACTOR);
+            match blowup {
+                Some((step, time, drift)) => Err(Error::Diverged {
+                    step,
+                    time,
+                    reason: format!(
+                        "the energy exceeded {} × E(0) (|E − E(0)| = {drift:.3e} E(0)); a \
+                         study records this run as diverged, and the files above show it",
+                        jobs::BLOWUP_FACTOR
+                    ),
+                }),
+                None => Ok(()),
+            }
         }
     }
 }

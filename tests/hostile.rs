@@ -175,6 +175,29 @@ fn the_first_non_finite_quantity_stops_the_run_naming_step_time_and_quantity() {
 }
 
 #[test]
+fn an_energy_blown_up_past_the_study_limit_fails_the_run_naming_its_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    // A penalty 10¹² times its default: finite, but the energy grows to 10¹⁵ E(0). The files are
+    // written (the curves are the evidence), and `run` fails as a study records it: diverged.
+    let out = run(
+        &["cases/bar1d.toml", "--scheme", "hauret_le_tallec"],
+        &["--penalty-gamma", "1e14", "--out", o.to_str().unwrap()],
+    );
+    assert_clear_error(&out, &["diverged at step", "exceeded 100 × E(0)"]);
+    assert!(diverged_step(&stderr(&out)) > 0, "{}", stderr(&out));
+    for f in ["timeseries.csv", "summary.csv", "energy.png"] {
+        assert!(o.join(f).exists(), "{f} not written");
+    }
+    // The trapezoidal rule's growth on the bar (2.8 %) is a result, not a divergence.
+    let out = run(
+        &["cases/bar1d.toml", "--beta", "0.25"],
+        &["--out", o.to_str().unwrap()],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
+#[test]
 fn a_sweep_records_a_non_finite_run_as_diverged_and_the_report_shows_it() {
     let dir = tempfile::tempdir().unwrap();
     let sweep = "[[sweep]]\nname = \"hostile\"\nspaces = [\"standard\"]\n\
@@ -611,6 +634,55 @@ fn fields_that_break_or_do_nothing_are_named_themselves() {
             ),
             &[],
             &["`master.mesh.elements`: 0"],
+        ),
+        // Fields of the other shape, and body 2's lift, changed nothing (found 2026-11-29).
+        (
+            block(
+                "radius",
+                "size = [1.0, 1.0]",
+                "size = [1.0, 1.0]\nradius = 1.0",
+            ),
+            &[],
+            &["`geometry.radius`: 1.0", "has no radius"],
+        ),
+        (
+            block(
+                "grading",
+                "cells = \"quad\"",
+                "cells = \"quad\"\ngrading = 4.0",
+            ),
+            &[],
+            &["`mesh.grading`: 4.0", "uniform"],
+        ),
+        (
+            edited(
+                &own("size"),
+                "hertz2d.toml",
+                &[("gravity = 0.0", "gravity = 0.0\nsize = [1.0, 1.0]")],
+            ),
+            &[],
+            &["`geometry.size`: [1.0, 1.0]", "sized by geometry.radius"],
+        ),
+        (
+            edited(
+                &own("lift"),
+                "slide_on_block2d.toml",
+                &[(
+                    "shape = \"box\"\nsize = [2.0, 0.5]",
+                    "shape = \"box\"\nlift = 0.1\nsize = [2.0, 0.5]",
+                )],
+            ),
+            &[],
+            &["`master.geometry.lift`: 0.1", "body 1's geometry.lift"],
+        ),
+        // A friction coefficient too large for the Newton solver: its failure names μ.
+        (
+            "cases/slide_on_block2d.toml".to_string(),
+            &["--friction", "1e6"],
+            &[
+                "contact solver failed at step",
+                "μ = 1000000 (contact.friction)",
+            ],
         ),
         // An initial state that overflows: step 0 says so.
         (

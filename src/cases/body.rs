@@ -401,6 +401,28 @@ pub(super) fn refuse_generated(o: &Overrides, file: &str) -> Result<()> {
     }
 }
 
+/// Fields the generated shape would not use, refused by name: a box's radius or grading, a
+/// disc's or sphere's size.
+fn unused_by_shape(g: &Geometry, m: &MeshSpec) -> Result<()> {
+    let boxes_only = "sizes a box; a disc or sphere is sized by geometry.radius";
+    match (g.shape.as_str(), g.radius) {
+        ("box", Some(r)) => Err(Error::invalid(
+            "geometry.radius",
+            r,
+            "a box (geometry.shape, default \"box\") has no radius: geometry.size gives it",
+        )),
+        ("box", None) if m.grading != default_grading() => Err(Error::invalid(
+            "mesh.grading",
+            m.grading,
+            "grades a disc's or sphere's O-grid towards its pole; a box's cells are uniform",
+        )),
+        ("disc" | "sphere", _) if !g.size.is_empty() => {
+            Err(Error::invalid("geometry.size", &g.size, boxes_only))
+        }
+        _ => Ok(()),
+    }
+}
+
 /// The mesh a body's geometry, mesh and contact tables describe (a file when given, else the
 /// generated shape) and the rule that selects Γ_C on it.
 pub(super) fn build_mesh(
@@ -434,6 +456,7 @@ pub(super) fn build_mesh(
     if n == 0 {
         return Err(Error::invalid("mesh.elements", n, "must be ≥ 1"));
     }
+    unused_by_shape(g, spec_mesh)?;
     let mesh = match g.shape.as_str() {
         "box" => {
             if g.size.len() != dim {
@@ -559,6 +582,14 @@ impl Body {
                 "tilts gravity, and geometry.gravity = 0: it would be ignored",
             ));
         }
+        if kind.starts_with("hertz") && g.shape == "box" {
+            return Err(Error::invalid(
+                "geometry.shape",
+                &g.shape,
+                "Hertz theory is of a curved body: a disc (2D) or a sphere (3D), of \
+                 geometry.radius",
+            ));
+        }
         let (mesh, rule) = match mesh {
             Some(mesh) => {
                 refuse_generated(o, &mesh.origin)?;
@@ -575,14 +606,6 @@ impl Body {
                 )
             })?;
             positive("geometry.radius", radius)?;
-            if g.shape == "box" {
-                return Err(Error::invalid(
-                    "geometry.shape",
-                    &g.shape,
-                    "Hertz theory is of a curved body: a disc (2D) or a sphere (3D), of \
-                     geometry.radius",
-                ));
-            }
             if g.velocity >= 0.0 {
                 return Err(Error::invalid(
                     "geometry.velocity",

@@ -331,6 +331,19 @@ impl TwoBodies {
                 "two bodies meet along e_d, without a slope (0)",
             ));
         }
+        if let Some(lift) = spec
+            .master
+            .geometry
+            .as_ref()
+            .map(|g| g.lift)
+            .filter(|l| *l != 0.0)
+        {
+            return Err(Error::invalid(
+                "master.geometry.lift",
+                lift,
+                "the gap between the bodies is body 1's geometry.lift (body 2's would be unused)",
+            ));
+        }
         let m = &spec.master;
         let material2 = m.material.clone().unwrap_or_else(|| spec.material.clone());
         let geometry2 = m.geometry.clone().unwrap_or_else(|| Geometry {

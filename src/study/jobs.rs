@@ -6,9 +6,10 @@
 //! (NaN, or energy above [`BLOWUP_FACTOR`] × E(0)) is recorded with its status and reason; it never
 //! aborts the sweep. Records come back in enumeration order, so outputs are deterministic.
 
-use super::metrics::Metrics;
+use super::metrics::{self, Metrics};
 use super::run::{self, RunResult, Summary};
 use super::schedule::{self, Estimate};
+use super::trajectory::Row;
 use crate::cases::{self, sweep::Refinement, sweep::SchemeChoice, Case, CaseFile, Size};
 use crate::error::{Error, Result};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -16,6 +17,17 @@ use std::sync::Arc;
 
 /// A run whose energy exceeds this multiple of E(0) is recorded as diverged.
 pub const BLOWUP_FACTOR: f64 = 100.0;
+
+/// Why a finished run counts as diverged: its energy left [`BLOWUP_FACTOR`] × E(0), with the step
+/// and time at which it first did (None when it never did).
+pub fn blowup(rows: &[Row]) -> Option<String> {
+    metrics::first_blowup(rows, BLOWUP_FACTOR).map(|(step, t, drift)| {
+        format!(
+            "energy exceeded {BLOWUP_FACTOR} × E(0) at step {step} (t = {t:.6e}; |E − E(0)| = \
+             {drift:.3e} E(0))"
+        )
+    })
+}
 
 /// One combination to run.
 #[derive(Debug, Clone)]
@@ -333,12 +345,8 @@ pub fn run_job_keeping(job: &Job) -> (RunRecord, Option<RunResult>) {
             Err(e) => failed(e, Some(case.as_ref())),
             Ok(r) => {
                 let summary = r.summary.clone();
-                let outcome = if summary.metrics.energy_drift > BLOWUP_FACTOR {
-                    (
-                        Status::Diverged,
-                        format!("energy exceeded {BLOWUP_FACTOR} × E(0)"),
-                        summary,
-                    )
+                let outcome = if let Some(reason) = blowup(&r.rows) {
+                    (Status::Diverged, reason, summary)
                 } else {
                     if case.exact().is_none() {
                         probe = r

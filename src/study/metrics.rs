@@ -235,6 +235,17 @@ fn relative(x: f64, scale: f64) -> f64 {
     }
 }
 
+/// The first sample whose energy departs from E(0) by more than `factor` × |E(0)| (by more than
+/// `factor` when E(0) = 0, as `energy_drift`): `(sample, t, |E − E(0)| / |E(0)|)`. Every step is a
+/// sample, so the sample is the step.
+pub fn first_blowup(rows: &[Row], factor: f64) -> Option<(usize, f64, f64)> {
+    let e0 = rows.first()?.energy;
+    rows.iter()
+        .enumerate()
+        .map(|(i, r)| (i, r.t, relative((r.energy - e0).abs(), e0)))
+        .find(|(_, _, drift)| *drift > factor)
+}
+
 fn total_variation(x: impl Iterator<Item = f64>) -> f64 {
     let mut prev: Option<f64> = None;
     let mut tv = 0.0;

@@ -199,7 +199,7 @@ impl Solver for AlartCurnier {
             return Ok(loc.finish(&self.law, &r, lambda, MAX_ITERATIONS));
         }
         Err(loc.not_converged(
-            "alart_curnier",
+            ("alart_curnier", &self.law),
             &r,
             (norm, TOLERANCE),
             format!("{MAX_ITERATIONS} Newton iterations"),

@@ -218,7 +218,7 @@ impl Solver for DeSaxce {
             String::new()
         };
         Err(loc.not_converged(
-            "de_saxce",
+            ("de_saxce", &self.law),
             &r,
             (norm, FLOOR),
             format!("{done} fixed-point rounds{why}"),

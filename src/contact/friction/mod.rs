@@ -211,10 +211,11 @@ impl Local {
         SolveInfo { iterations, active }
     }
 
-    /// The failure of `method` after `rounds` (e.g. "100 Newton iterations") at residual `norm`.
+    /// The failure of `method` after `rounds` (e.g. "100 Newton iterations") at residual `norm`,
+    /// with the law's μ (`contact.friction`, which a run may have set too large to converge).
     pub fn not_converged(
         &self,
-        method: &'static str,
+        (method, law): (&'static str, &Coulomb),
         r: &DVector<f64>,
         (norm, tolerance): (f64, f64),
         rounds: String,
@@ -222,9 +223,11 @@ impl Local {
         SolverError::NotConverged {
             method,
             detail: format!(
-                "Alart–Curnier residual {norm:.3e} (tolerance {:.3e}) after {rounds} on {} points",
+                "Alart–Curnier residual {norm:.3e} (tolerance {:.3e}) after {rounds} on {} \
+                 points, with μ = {} (contact.friction)",
                 tolerance * self.scale(r),
-                self.points.len()
+                self.points.len(),
+                law.mu
             ),
         }
     }

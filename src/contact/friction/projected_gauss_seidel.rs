@@ -103,7 +103,7 @@ impl Solver for ProjectedGaussSeidel {
         match loc.converged(&r, TOLERANCE) {
             (_, true) => Ok(loc.finish(&self.law, &r, lambda, MAX_SWEEPS)),
             (norm, false) => Err(loc.not_converged(
-                "projected_gauss_seidel",
+                ("projected_gauss_seidel", &self.law),
                 &r,
                 (norm, TOLERANCE),
                 format!("{MAX_SWEEPS} sweeps"),

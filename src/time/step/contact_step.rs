@@ -96,8 +96,9 @@ fn check_stiffness_resolved(
         format!("k = {k_coef:.3e} in the step matrix m M + k K"),
         &format!(
             "too small against the mass: the stiffness term of the step matrix ({stiff:.3e}) is \
-             below the round-off of its mass term ({mass:.3e}); increase run.dt, or check the \
-             mass (density) against the stiffness"
+             below the round-off of its mass term ({mass:.3e}); increase run.dt (or the \
+             scheme's factor of Δt² in k: newmark's or hht's run.beta), or check the mass \
+             (density) against the stiffness"
         ),
     ))
 }
