@@ -283,7 +283,22 @@ fn main_result(cli: Cli) -> Result<()> {
             resume,
             profile,
         } => {
+            // The output directory first: a profile in it (or beside a refused one) is then
+            // created in a directory that exists, and never under a name the report writes.
+            dyncontact::util::output_dir(&out, "--out")?;
             if let Some(p) = &profile {
+                let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
+                let parent = p.parent().filter(|d| !d.as_os_str().is_empty());
+                let inside =
+                    parent.unwrap_or(Path::new(".")).canonicalize().ok() == out.canonicalize().ok();
+                if inside && dyncontact::report::index::writes(name) {
+                    return Err(Error::invalid(
+                        "--profile",
+                        p.display().to_string(),
+                        "the report writes a file of this name in --out: name the profile \
+                         otherwise",
+                    ));
+                }
                 dyncontact::study::profile::start(p)?;
             }
             let opts = dyncontact::report::Options {

@@ -413,7 +413,7 @@ fn sweep_tables_that_would_ignore_a_field_or_misname_a_file_are_refused_first() 
             "quick_levels = 3\ndegree = { no_such_space = 2 }",
             &[
                 "sweep.orders.degree.no_such_space`: 2",
-                "not a space of this sweep",
+                "not a space of this table",
             ],
         ),
         (
@@ -430,6 +430,12 @@ fn sweep_tables_that_would_ignore_a_field_or_misname_a_file_are_refused_first() 
             "name = \"orders\"",
             "name = \"a/b\"",
             &["sweep.name`: \"a/b\"", "part of file names"],
+        ),
+        // The same level twice: orders.csv had NaN orders (found 2026-11-29, fifth round).
+        (
+            "dt = 0.01\nratio = 2\nlevels = 5",
+            "refinements = [{ dt = 0.01 }, { dt = 0.005 }, { dt = 0.01 }]",
+            &["sweep.orders.refinements`", "a level listed twice"],
         ),
     ] {
         let bad = edited(dir.path(), "spring_mass.toml", &[(from, to)]);
@@ -675,13 +681,19 @@ fn fields_that_break_or_do_nothing_are_named_themselves() {
             &[],
             &["`master.geometry.lift`: 0.1", "body 1's geometry.lift"],
         ),
+        // A slide has no incidence (it blamed geometry.velocity, which the file sets to 0).
+        (
+            "cases/slide2d.toml".to_string(),
+            &["--incidence", "45"],
+            &["`--incidence`: 45.0", "no incidence"],
+        ),
         // A friction coefficient too large for the Newton solver: its failure names μ.
         (
             "cases/slide_on_block2d.toml".to_string(),
             &["--friction", "1e6"],
             &[
                 "contact solver failed at step",
-                "μ = 1000000 (contact.friction)",
+                "μ = 1000000.0 (contact.friction)",
             ],
         ),
         // An initial state that overflows: step 0 says so.
@@ -1349,5 +1361,137 @@ fn worker_threads_beyond_the_machine_are_refused_naming_the_variable() {
                 .expect("binary runs");
             assert_clear_error(&out, &[name, value]);
         }
+    }
+}
+
+/// Found by a fifth round of hostile inputs (2026-11-29): levels that do not refine gave an
+/// order of 2.6e9 marked `meets`; two unnamed `[[history]]` tables drew one figure over the
+/// other; a resumed report with a narrower selection dropped the other runs from its journal.
+#[test]
+fn studies_fit_only_refinements_keep_their_figures_and_their_records() {
+    let dir = tempfile::tempdir().unwrap();
+    let near = edited(
+        dir.path(),
+        "spring_mass.toml",
+        &[
+            ("t_end = 10.0", "t_end = 1.0"),
+            (
+                "dt = 0.01\nratio = 2\nlevels = 5",
+                "refinements = [{ dt = 0.01 }, { dt = 0.01000000001 }]",
+            ),
+        ],
+    );
+    let o = dir.path().join("near");
+    let out = dyncontact(&["sweep", &near, "--out", o.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let orders = std::fs::read_to_string(o.join("orders.csv")).unwrap();
+    let verdicts: Vec<&str> = orders
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap())
+        .collect();
+    assert!(
+        !verdicts.is_empty() && verdicts.iter().all(|v| *v == "too_few_levels"),
+        "{orders}"
+    );
+    assert!(!orders.contains("NaN"), "{orders}");
+    // Two unnamed histories, refused before any run.
+    let cases = dir.path().join("cases");
+    std::fs::create_dir_all(&cases).unwrap();
+    edited(&cases, "block2d.toml", &[("name = \"weak\"\n", "")]);
+    let start = Instant::now();
+    let out = dyncontact(&[
+        "report",
+        "--cases",
+        cases.to_str().unwrap(),
+        "--quick",
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert_clear_error(
+        &out,
+        &[
+            "block2d.toml",
+            "`history.name`",
+            "would write the same figures",
+        ],
+    );
+    assert!(start.elapsed() < Duration::from_secs(10), "ran first");
+    // A quick resume over a full report keeps the runs it does not take.
+    std::fs::remove_file(cases.join("block2d.toml")).unwrap();
+    edited(
+        &cases,
+        "spring_mass.toml",
+        &[("t_end = 10.0", "t_end = 1.0")],
+    );
+    let r = dir.path().join("R");
+    let report = |extra: &[&str]| {
+        let args = [
+            &[
+                "report",
+                "--cases",
+                cases.to_str().unwrap(),
+                "--out",
+                r.to_str().unwrap(),
+            ],
+            extra,
+        ]
+        .concat();
+        let out = dyncontact(&args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let rows = std::fs::read_to_string(r.join("journal.csv"))
+            .unwrap()
+            .lines()
+            .count()
+            - 1;
+        (rows, stderr(&out))
+    };
+    assert_eq!(report(&[]).0, 35);
+    let (rows, said) = report(&["--resume", "--quick"]);
+    assert_eq!(rows, 35, "{said}");
+    let (rows, said) = report(&["--resume"]);
+    assert!(
+        rows == 35 && said.contains("35 of 35 runs already recorded"),
+        "{said}"
+    );
+}
+
+/// `--profile` named as a file the report writes in `--out` was overwritten by it (the profile
+/// lost, exit 0); in a directory that `--out` creates it was refused.
+#[test]
+fn a_profile_is_never_a_file_the_report_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = dir.path().join("cases");
+    std::fs::create_dir_all(&cases).unwrap();
+    edited(
+        &cases,
+        "spring_mass.toml",
+        &[("t_end = 10.0", "t_end = 1.0")],
+    );
+    let r = dir.path().join("R");
+    let report = |profile: &str| {
+        let r = r.to_str().unwrap();
+        let args = [
+            "report",
+            "--cases",
+            cases.to_str().unwrap(),
+            "--quick",
+            "--out",
+            r,
+        ];
+        dyncontact(&[&args[..], &["--profile", &format!("{r}/{profile}")]].concat())
+    };
+    let out = report("profile.csv");
+    assert!(out.status.success(), "{}", stderr(&out));
+    let profile = std::fs::read_to_string(r.join("profile.csv")).unwrap();
+    assert!(
+        profile.starts_with("kind,task,") && profile.lines().count() > 21,
+        "{profile}"
+    );
+    for taken in ["journal.csv", "summary.csv", "index.md"] {
+        assert_clear_error(
+            &report(taken),
+            &["--profile", taken, "name the profile otherwise"],
+        );
     }
 }

@@ -548,6 +548,13 @@ impl Body {
         check_material(m)?;
         let mut spec = spec;
         if let Some(theta) = o.incidence {
+            if kind.starts_with("slide") {
+                return Err(Error::invalid(
+                    "--incidence",
+                    theta,
+                    "a slide starts on the plane, moving along it: it has no incidence",
+                ));
+            }
             incline(&mut spec.geometry, theta)?;
         }
         if let Some(oblique) = &spec.oblique {
@@ -647,11 +654,12 @@ impl Body {
             ));
         }
         let slide = if kind.starts_with("slide") {
-            if g.velocity != 0.0 || g.lift != 0.0 {
+            let normal = [("geometry.velocity", g.velocity), ("geometry.lift", g.lift)];
+            if let Some((field, value)) = normal.into_iter().find(|f| f.1 != 0.0) {
                 return Err(Error::invalid(
-                    "geometry.velocity",
-                    g.velocity,
-                    "a slide starts at rest on the plane (velocity = 0, lift = 0)",
+                    field,
+                    value,
+                    "a slide starts on the plane at rest along its normal (velocity = 0, lift = 0)",
                 ));
             }
             Some(Slide::new(g.tangential_velocity, g.gravity, friction)?)

@@ -73,7 +73,49 @@ impl HistorySpec {
         for &dt in &self.dts {
             positive(&field("dts"), dt)?;
         }
-        Ok(())
+        if let Some(twice) = crate::util::first_repeated(&self.spaces) {
+            return Err(Error::invalid(field("spaces"), twice, "listed twice"));
+        }
+        if let Some(twice) = crate::util::first_repeated(&self.dts) {
+            return Err(Error::invalid(field("dts"), twice, "listed twice"));
+        }
+        unused_degree(&self.degree, &self.spaces, field)
+    }
+}
+
+/// Refuses `[[history]]` tables that would write the same figures: each validated, and no
+/// name twice (unnamed twice included: both would write `<case>_energy.png`).
+pub fn validate_histories(histories: &[HistorySpec]) -> Result<()> {
+    for h in histories {
+        h.validate()?;
+    }
+    let again = (1..histories.len()).find(|&i| {
+        let name = &histories[i].name;
+        histories[..i].iter().any(|h| &h.name == name)
+    });
+    match again.map(|i| &histories[i]) {
+        Some(h) => Err(Error::invalid(
+            h.field("name"),
+            &h.name,
+            "two [[history]] tables of one name (or two unnamed) would write the same figures",
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Refuses a `degree` key for a space the table does not run (it would be ignored).
+fn unused_degree(
+    degree: &BTreeMap<String, usize>,
+    spaces: &[String],
+    field: impl Fn(&str) -> String,
+) -> Result<()> {
+    match degree.keys().find(|k| !spaces.contains(k)) {
+        Some(other) => Err(Error::invalid(
+            field(&format!("degree.{other}")),
+            degree[other],
+            &format!("not a space of this table ({})", spaces.join(", ")),
+        )),
+        None => Ok(()),
     }
 }
 
@@ -159,11 +201,12 @@ impl SweepSpec {
         if let Some(twice) = crate::util::first_repeated(&self.spaces) {
             return Err(Error::invalid(field("spaces"), twice, "listed twice"));
         }
-        if let Some(other) = self.degree.keys().find(|k| !self.spaces.contains(k)) {
+        unused_degree(&self.degree, &self.spaces, field)?;
+        if let Some(twice) = crate::util::first_repeated(&self.refinements) {
             return Err(Error::invalid(
-                field(&format!("degree.{other}")),
-                self.degree[other],
-                &format!("not a space of this sweep ({})", self.spaces.join(", ")),
+                field("refinements"),
+                twice,
+                "a level listed twice: the levels must refine (no order is fitted otherwise)",
             ));
         }
         if !self.refinements.is_empty() {

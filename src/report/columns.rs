@@ -63,13 +63,13 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("tangential_impulse", "case (mass·length/time)", "oblique impact: `J_t = m_t (v_t(T) − v_t(0))` along the first tangent (negative: against the motion); `|J_t| = μ J_n` when the contact slides throughout"),
     // orders.csv
     ("quantity", "—", "the metric column fitted"),
-    ("order", "1", "least-squares slope of ln(error) against ln(h) (ln(dt) for the 0D spring) over the usable levels (status `ok`, error finite and > 0); read it with `verdict`"),
+    ("order", "1", "least-squares slope of ln(error) against ln(h) (ln(dt) for the 0D spring, or where only dt is refined) over the usable levels (status `ok`, error finite and > 0), fitted only where their sizes span at least 1.1 times; read it with `verdict`"),
     ("fit_residual", "1", "RMS residual of that fit, in ln (above 0.25 the errors do not lie on a line)"),
     ("points", "—", "levels used by the fit"),
     ("literature", "1", "the order expected from theory, where known (`1`, `1/3-1/2`)"),
     ("reference", "—", "what the errors are measured against: `exact`, `own finest level`, `Hertz theory`, or the common reference `<space> <scheme> (<parameters>) finest level`"),
     ("finest_error", "as the quantity", "the error at the finest usable level"),
-    ("verdict", "—", "`meets` (≥ 70 % of the expected lower end, or ≥ 0.2 where none is known), `below` (converges more slowly), `stalls` (order below 0.2), `grows`, `flat` (finest error within 10 % of the coarsest), `irregular` (residual above 0.25), `too_few_levels`: only the first three make `order` an order"),
+    ("verdict", "—", "`meets` (≥ 70 % of the expected lower end, or ≥ 0.2 where none is known), `below` (converges more slowly), `stalls` (order below 0.2), `grows`, `flat` (finest error within 10 % of the coarsest), `irregular` (residual above 0.25), `too_few_levels` (fewer than two usable levels, or sizes within 1.1 times): only the first three make `order` an order"),
     // probes and timeseries.csv
     ("t", "case (time)", "time"),
     ("u_contact", "case (length)", "displacement of the probe's contact dof (the end x = 0 of the bar, the spring's mass, the vertex of Γ_C nearest the plane for the bodies)"),

@@ -343,6 +343,12 @@ fn hertz_section(d: &mut Doc, records: &[&RunRecord]) {
     }
 }
 
+/// True when the report writes a file of this name at the top of its directory (a file of
+/// [`FILES`], or the index itself).
+pub fn writes(name: &str) -> bool {
+    ["index.md", "index.html"].contains(&name) || FILES.iter().any(|(f, _)| *f == name)
+}
+
 /// What each file of a report holds, by name (the others are the data of a figure).
 const FILES: &[(&str, &str)] = &[
     (
@@ -353,7 +359,8 @@ const FILES: &[(&str, &str)] = &[
     ),
     (
         "orders.csv",
-        "observed orders: the slope of log(error) against log(h) (log(dt) for the spring), its \
+        "observed orders: the slope of log(error) against log(h) (log(dt) for the spring or a \
+         time-only refinement), its \
          RMS residual, the levels used, the literature's value and the reference of the errors",
     ),
     (

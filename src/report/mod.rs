@@ -285,8 +285,9 @@ fn figures_estimate(file: &CaseFile, quick: bool) -> Result<Estimate> {
             extra = finite_body_estimate(case.as_ref(), file.size(&runs[0]));
         }
     } else if !case.histories().is_empty() {
+        crate::cases::sweep::validate_histories(case.histories())
+            .map_err(|e| e.in_case_file(&file.path))?;
         for h in case.histories() {
-            h.validate().map_err(|e| e.in_case_file(&file.path))?;
             let dts = if quick {
                 &h.dts[..h.dts.len().min(1)]
             } else {

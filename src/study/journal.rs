@@ -291,14 +291,33 @@ pub fn run_study_with<R: Send>(
 }
 
 /// Writes `dir/journal` again with `records` (the final ones, one per job, in job order), so
-/// that it holds what `summary.csv` holds; [`write_rows`] writes it beside and renames it, so
-/// that a kill leaves the old journal or the new one.
+/// that it holds what `summary.csv` holds, then the rows of the runs outside this selection
+/// (another `--case`, `--quick` or not: the last row of each key), kept for a later `--resume`;
+/// [`write_rows`] writes it beside and renames it, so that a kill leaves the old journal or the
+/// new one.
 pub fn rewrite(dir: &Path, journal: &str, jobs: &[Job], records: &[RunRecord]) -> Result<()> {
+    let path = dir.join(journal);
+    let mine: std::collections::HashSet<&str> = jobs.iter().map(|j| j.key.as_str()).collect();
+    let old = match path.exists() {
+        true => read_journal(&JOURNAL.read(&path)?, &path)?,
+        false => Vec::new(),
+    };
+    let last: HashMap<&str, usize> = old
+        .iter()
+        .enumerate()
+        .map(|(i, (r, _))| (r.key.as_str(), i))
+        .collect();
+    let others = old
+        .iter()
+        .enumerate()
+        .filter(|(i, (r, _))| !mine.contains(r.key.as_str()) && last[r.key.as_str()] == *i)
+        .map(|(_, (r, hash))| fields(r, hash));
     write_rows(
-        &dir.join(journal),
+        &path,
         &header(),
         jobs.iter()
             .zip(records)
-            .map(|(j, r)| fields(r, &j.file.hash)),
+            .map(|(j, r)| fields(r, &j.file.hash))
+            .chain(others),
     )
 }

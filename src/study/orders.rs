@@ -1,10 +1,12 @@
 //! Observed orders of convergence from run records: least-squares slope of log(error) against
-//! log(h) (log(dt) for a 0D case) per case × sweep × space × scheme × quantity, with the RMS
-//! residual of the fit and the value expected from the literature where known.
+//! log(h) (log(dt) for a 0D case or a time-only refinement) per case × sweep × space × scheme ×
+//! quantity, with the RMS residual of the fit and the value expected from the literature where
+//! known.
 
 use super::jobs::{RunRecord, Status};
 use super::metrics::{Metrics, METRIC_COLUMNS};
 use super::reference::{common_reference, Series};
+use super::run::Summary;
 use crate::error::Result;
 use crate::util::group_by;
 use std::path::Path;
@@ -135,7 +137,7 @@ pub enum Verdict {
     Flat,
     /// The fit's residual exceeds [`IRREGULAR`]: the errors do not lie on a line.
     Irregular,
-    /// Fewer than two usable levels.
+    /// Fewer than two usable levels, or levels whose sizes do not refine (within [`MIN_SPAN`]).
     TooFewLevels,
 }
 
@@ -174,14 +176,15 @@ pub struct Order {
     pub parameters: String,
     /// Quantity name.
     pub quantity: &'static str,
-    /// Least-squares slope of log(error) against log(h) (log(dt) for 0D cases) and the RMS
-    /// residual of the fit; None with fewer than two usable levels.
+    /// Least-squares slope of log(error) against log(h) (log(dt) for 0D cases, or when only dt
+    /// is refined) and the RMS residual of the fit; None with fewer than two usable levels or
+    /// sizes that span less than [`MIN_SPAN`].
     pub fit: Option<(f64, f64)>,
     /// Levels used (status ok, error finite and > 0).
     pub points: usize,
     /// The error at the coarsest and at the finest usable level.
     pub ends: Option<(f64, f64)>,
-    /// h (dt for a 0D case) of the finest usable level.
+    /// h (dt for a 0D case or a time-only refinement) of the finest usable level.
     pub finest: Option<f64>,
     /// What the errors are measured against: `exact`, `own finest level`, or the common
     /// reference `<space> <scheme> (<parameters>) finest level`.
@@ -218,20 +221,21 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
                 })
         };
         for (quantity, get) in quantities() {
-            let pts: Vec<(f64, f64)> = runs
+            let usable: Vec<(&Summary, f64)> = runs
                 .iter()
                 .filter(|r| r.status == Status::Ok)
                 .filter_map(|r| {
-                    let s = &r.summary;
-                    let x = if s.h.is_finite() { s.h } else { s.dt };
-                    get(&s.metrics)
-                        .filter(|e| e.is_finite() && *e > 0.0)
-                        .map(|e| (x, e))
+                    let e = get(&r.summary.metrics).filter(|e| e.is_finite() && *e > 0.0)?;
+                    Some((&r.summary, e))
                 })
                 .collect();
             if runs.iter().all(|r| get(&r.summary.metrics).is_none()) {
                 continue;
             }
+            let pts: Vec<(f64, f64)> = match refined(&usable) {
+                Some(size) => usable.iter().map(|(s, e)| (size(s), *e)).collect(),
+                None => Vec::new(),
+            };
             let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
             // Levels come coarsest first.
             let finest = pts.iter().copied().min_by(|a, b| a.0.total_cmp(&b.0));
@@ -252,6 +256,27 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
         }
     }
     out
+}
+
+/// Levels whose sizes span less than this ratio are not a refinement: no order is fitted
+/// (repeated or near-repeated levels gave a NaN or an order of 10⁹).
+pub const MIN_SPAN: f64 = 1.1;
+
+/// The size the levels refine: h when it spans [`MIN_SPAN`] (finite h), else dt when it does
+/// (the 0D spring, or a time-only refinement); None when neither does.
+fn refined(levels: &[(&Summary, f64)]) -> Option<fn(&Summary) -> f64> {
+    let spans = |size: fn(&Summary) -> f64| {
+        let (lo, hi) = levels
+            .iter()
+            .map(|(s, _)| size(s))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(x), hi.max(x))
+            });
+        lo > 0.0 && hi.is_finite() && hi >= MIN_SPAN * lo
+    };
+    let h: fn(&Summary) -> f64 = |s| s.h;
+    let dt: fn(&Summary) -> f64 = |s| s.dt;
+    [h, dt].into_iter().find(|&size| spans(size))
 }
 
 impl Order {

@@ -224,7 +224,7 @@ impl Local {
             method,
             detail: format!(
                 "Alart–Curnier residual {norm:.3e} (tolerance {:.3e}) after {rounds} on {} \
-                 points, with μ = {} (contact.friction)",
+                 points, with μ = {:?} (contact.friction)",
                 tolerance * self.scale(r),
                 self.points.len(),
                 law.mu
