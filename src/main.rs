@@ -160,6 +160,9 @@ fn list(dir: &Path) -> Result<()> {
         eprintln!("{e}");
         Vec::new()
     });
+    if entries.is_empty() && dir.is_dir() {
+        eprintln!("no case files (*.toml) in {}", dir.display());
+    }
     for p in entries {
         match cases::load(&p, &Overrides::default()) {
             Ok(c) => say!(
