@@ -135,7 +135,7 @@ fn files() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
         ),
         (
             "journal.csv",
-            "one row per run, appended as runs finish, rewritten in run order at the end (`sweep` writes the same file, and `records.csv` with these columns but `case_hash`)",
+            "one row per run, appended as runs finish, rewritten in run order at the end, then the recorded runs a narrower `--resume` (`--case`, `--quick`) left out (`sweep` writes the same file, and `records.csv` with these columns but `case_hash`)",
             crate::study::journal::header(),
         ),
         (

@@ -372,7 +372,8 @@ const FILES: &[(&str, &str)] = &[
         "journal.csv",
         "every run with its key, case-file hash and wall time, as streamed while the report \
          ran (`report --resume` skips the runs recorded there); rewritten in run order at the \
-         end, with the same metrics as `summary.csv`",
+         end, with the same metrics as `summary.csv`, then the recorded runs a narrower \
+         selection (`--case`, `--quick`) left out",
     ),
     (
         "cross_code.csv",
