@@ -542,11 +542,143 @@ fn merge_refuses_records_that_no_sweep_writes() {
             "great",
             &["row 2, column `status`: `great`", "ok, diverged"],
         ),
+        // Impossible values, which then became points = 0 or a missing timings row.
+        (
+            "energy_drift",
+            "-5",
+            &["row 2, column `energy_drift`: -5", "≥ 0"],
+        ),
+        (
+            "max_penetration",
+            "-1",
+            &["row 2, column `max_penetration`: -1", "≥ 0"],
+        ),
+        ("key", "", &["row 2, column `key`: empty"]),
+        ("steps", "0", &["row 2, column `steps`: 0", "status `ok`"]),
+        // The key's `-L0` against the level column, and a key of no run.
+        (
+            "level",
+            "1",
+            &["row 2, column `key`", "not the key of its row's run"],
+        ),
+        (
+            "key",
+            "other-key",
+            &["row 2, column `key`: `other-key`", "not the key"],
+        ),
     ] {
         assert_clear_error(&merge(&[&with(column, value)]), needles);
     }
     assert!(!dir.path().join("ESCAPED_orders_energy.png").exists());
     assert!(merge(&[&mine]).status.success());
+    // A name of the shard form that no sweep writes is no way around the completeness check.
+    for name in [
+        "records-1-of-18446744073709551616.csv",
+        "records-0-of-1.csv",
+        "records-01-of-1.csv",
+    ] {
+        let renamed = dir.path().join(name);
+        std::fs::copy(&records, &renamed).unwrap();
+        assert_clear_error(&merge(&[&renamed]), &[name, "does not write"]);
+    }
+}
+
+/// Found by a fifth round of hostile inputs (2026-11-29): `merge` fitted the records of two
+/// case files of one case (stiffness 1 and 4) as one series; `sweep --resume` copied a negative
+/// energy drift from the journal; `report --resume` took edited probe series (inf, NaN, a cut
+/// file, a `t` of 9.9e9) into the reference errors.
+#[test]
+fn merge_and_resume_refuse_what_no_run_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = |case: &str, out: &str, resume: bool| {
+        let o = dir.path().join(out);
+        let mut args = vec!["sweep", case, "--quick", "--out", o.to_str().unwrap()];
+        args.extend(resume.then_some("--resume"));
+        dyncontact(&args)
+    };
+    let stiff = edited(
+        dir.path(),
+        "spring_mass.toml",
+        &[("stiffness = 1.0", "stiffness = 4.0")],
+    );
+    for (case, out) in [("cases/spring_mass.toml", "a"), (stiff.as_str(), "b")] {
+        let done = sweep(case, out, false);
+        assert!(done.status.success(), "{}", stderr(&done));
+    }
+    let [a, b] = ["a", "b"].map(|d| dir.path().join(d).join("records.csv"));
+    std::fs::rename(&b, dir.path().join("b/sm4.csv")).unwrap();
+    // The stem `sm4` in b's keys, as a case file `sm4.toml` would write them.
+    let text = std::fs::read_to_string(dir.path().join("b/sm4.csv")).unwrap();
+    std::fs::write(&b, text.replace("\nspring_mass-", "\nsm4-")).unwrap();
+    let o = dir.path().join("o");
+    let out = dyncontact(&[
+        "merge",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert_clear_error(
+        &out,
+        &[
+            "row 2, column `key`",
+            "case file `sm4`",
+            "case file `spring_mass`",
+        ],
+    );
+    // A journal row with a negative drift.
+    let journal = dir.path().join("a/journal.csv");
+    let text = std::fs::read_to_string(&journal).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let k = header.iter().position(|h| *h == "energy_drift").unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let mut row: Vec<String> = lines[1].split(',').map(String::from).collect();
+    row[k] = "-7".into();
+    lines[1] = row.join(",");
+    std::fs::write(&journal, lines.join("\n") + "\n").unwrap();
+    let out = sweep("cases/spring_mass.toml", "a", true);
+    assert_clear_error(&out, &["journal", "row 2, column `energy_drift`: -7"]);
+    // Probe series (block2d has no exact solution): 10 steps, 11 samples.
+    let text = std::fs::read_to_string("cases/block2d.toml").unwrap();
+    let keep = text.split("\n[[").next().unwrap().to_string();
+    let case = dir.path().join("block2d.toml");
+    let table = "\n[[sweep]]\nname = \"p\"\nspaces = [\"standard\"]\n\
+                 schemes = [{ scheme = \"newmark\", beta = 0.5, gamma = 0.5 }]\n\
+                 elements = 2\ndt = 0.05\nt_end = 0.5\nratio = 2\nlevels = 2\n";
+    std::fs::write(&case, keep + table).unwrap();
+    let case = case.to_str().unwrap();
+    let done = sweep(case, "p", false);
+    assert!(done.status.success(), "{}", stderr(&done));
+    let probe = dir
+        .path()
+        .join("p/probes/block2d-p-standard-newmark-beta=0.5;gamma=0.5-L0.csv");
+    let good = std::fs::read_to_string(&probe).unwrap();
+    let second = good.lines().nth(2).unwrap().to_string();
+    let (t, rest) = second.split_once(',').unwrap();
+    let (u, _) = rest.split_once(',').unwrap();
+    let cut: String = good.lines().take(2).map(|l| format!("{l}\n")).collect();
+    for (edited, needles) in [
+        (
+            good.replacen(&second, &format!("{t},{u},inf"), 1),
+            &["row 3, column `sigma_contact`: inf"][..],
+        ),
+        (
+            good.replacen(&second, &format!("{t},NaN,{u}"), 1),
+            &["row 3, column `u_contact`: NaN"],
+        ),
+        (
+            good.replacen(&second, &format!("9.9e9,{rest}"), 1),
+            &["row 3, column `t`: 9900000000", "n·dt"],
+        ),
+        (cut, &["1 rows, not the 11 samples", "10 steps"]),
+    ] {
+        std::fs::write(&probe, edited).unwrap();
+        let out = sweep(case, "p", true);
+        assert_clear_error(&out, &[&["probe series", "-L0.csv"][..], needles].concat());
+    }
+    std::fs::write(&probe, good).unwrap();
+    let out = sweep(case, "p", true);
+    assert!(out.status.success(), "{}", stderr(&out));
 }
 
 /// Found by a third round of hostile inputs (2026-11-29, later): a field the run would ignore

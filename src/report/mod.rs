@@ -35,7 +35,7 @@ use crate::study::journal::{self, run_study_with, Extra};
 use crate::study::orders;
 use crate::study::peers::{self, Agreement};
 use crate::study::profile;
-use crate::study::records::{read_records, write_records, write_timings};
+use crate::study::records::{read_records, write_records, write_timings, Seen, RECORDS_FILE};
 use crate::study::reference;
 use crate::study::run::RunResult;
 use crate::study::schedule::Estimate;
@@ -352,9 +352,9 @@ fn finite_body_estimate(case: &dyn Case, size: Size) -> Estimate {
 /// Joins record files (from `sweep --shard`) into a report in `out` (no time histories).
 pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
     complete_shards(files)?;
-    let (mut records, mut keys) = (Vec::new(), std::collections::HashMap::new());
+    let (mut records, mut seen) = (Vec::new(), Seen::default());
     for f in files {
-        records.extend(read_records(f, &mut keys)?);
+        records.extend(read_records(f, &mut seen)?);
     }
     if records.is_empty() {
         return Err(Error::invalid(
@@ -386,35 +386,60 @@ pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
 /// Refuses an incomplete set of shards: among the files named `records-<i>-of-<n>.csv` (as
 /// `sweep --shard i/n` writes them, into one directory or one each), every i of 1..=n of one n
 /// must come equally often: once for one sweep, k times for k sweeps sharded alike (their keys
-/// differ; the same shard twice is a repeated key). Files of other names are the user's own.
+/// differ; the same shard twice is a repeated key). A name of that form (i and n digits) that
+/// `sweep` does not write (i = 0, i > n, a leading zero, beyond `usize`) is refused, naming
+/// the file. Files of other names are the user's own.
 fn complete_shards(files: &[PathBuf]) -> Result<()> {
-    let shard = |f: &PathBuf| -> Option<(usize, usize)> {
-        let name = f.file_name()?.to_str()?;
-        let (i, n) = name
-            .strip_prefix("records-")?
-            .strip_suffix(".csv")?
-            .split_once("-of-")?;
-        Some((n.parse().ok()?, i.parse().ok()?))
+    let shard = |f: &PathBuf| -> Result<Option<(usize, usize)>> {
+        let parts = f.file_name().and_then(|n| n.to_str()).and_then(|name| {
+            let digits = |x: &str| !x.is_empty() && x.bytes().all(|b| b.is_ascii_digit());
+            let rest = name.strip_prefix("records-")?.strip_suffix(".csv")?;
+            rest.split_once("-of-")
+                .filter(|(i, n)| digits(i) && digits(n))
+        });
+        let Some((i, n)) = parts else {
+            return Ok(None);
+        };
+        match (i.parse::<usize>(), n.parse::<usize>()) {
+            (Ok(k), Ok(m)) if (1..=m).contains(&k) && k.to_string() == i && m.to_string() == n => {
+                Ok(Some((m, k)))
+            }
+            _ => Err(RECORDS_FILE.error(
+                f,
+                format!(
+                    "named as shard i = {i} of n = {n}, which `sweep --shard i/n` does not \
+                     write (1 ≤ i ≤ n, without leading zeros; rename a file that is no shard)"
+                ),
+            )),
+        }
     };
-    let mut shards: Vec<(usize, usize)> = files.iter().filter_map(shard).collect();
+    let mut shards = Vec::new();
+    for f in files {
+        shards.extend(shard(f)?);
+    }
     shards.sort_unstable();
     for group in shards.chunk_by(|a, b| a.0 == b.0) {
         let n = group[0].0;
         let count = |k: usize| group.iter().filter(|s| s.1 == k).count();
-        let counts: Vec<usize> = (1..=n).map(count).collect();
-        let most = counts.iter().copied().max().unwrap_or(0);
-        if group.iter().any(|s| s.1 == 0 || s.1 > n) || counts.iter().any(|&c| c != most) {
-            let missing: Vec<String> = (1..=n)
-                .filter(|&k| count(k) < most)
+        let most = group.iter().map(|s| count(s.1)).max().unwrap_or(0);
+        // Lazily: n may be far above the files given (records-1-of-99999999999.csv).
+        let mut missing = (1..=n).filter(|&k| count(k) < most).peekable();
+        if missing.peek().is_some() {
+            let mut names: Vec<String> = missing
+                .by_ref()
+                .take(5)
                 .map(|k| format!("records-{k}-of-{n}.csv"))
                 .collect();
+            if missing.next().is_some() {
+                names.push("…".into());
+            }
             return Err(Error::invalid(
                 "records",
                 format!("records-*-of-{n}.csv"),
                 &format!(
                     "not the {n} shards of a sweep, each as often (given: {:?}; missing: {})",
                     group.iter().map(|s| s.1).collect::<Vec<_>>(),
-                    missing.join(", ")
+                    names.join(", ")
                 ),
             ));
         }
@@ -456,7 +481,8 @@ mod tests {
     use super::*;
 
     /// Shards of one sweep in one directory or one each, and two sweeps sharded alike, merge;
-    /// a missing or repeated shard does not; other names are the user's own set.
+    /// a missing or repeated shard does not (nor one of 10^11 shards, listed lazily); a name of
+    /// the shard form that no sweep writes is refused; other names are the user's own set.
     #[test]
     fn every_shard_of_a_sweep_comes_equally_often() {
         let set = |names: &[&str]| -> Vec<PathBuf> { names.iter().map(PathBuf::from).collect() };
@@ -486,14 +512,29 @@ mod tests {
                 "records-2-of-2.csv",
             ),
             (
-                &["records-3-of-2.csv", "records-1-of-2.csv"],
-                "records-2-of-2.csv",
+                &["records-1-of-99999999999.csv"],
+                "records-2-of-99999999999.csv",
             ),
         ] {
             let e = complete_shards(&set(bad)).unwrap_err().to_string();
             assert!(
-                e.contains("not the 2 shards") && e.contains(missing),
+                e.contains("shards of a sweep, each as often") && e.contains(missing),
                 "{bad:?}: {e}"
+            );
+        }
+        for name in [
+            "records-3-of-2.csv",
+            "records-0-of-2.csv",
+            "records-1-of-0.csv",
+            "records-01-of-2.csv",
+            "records-1-of-18446744073709551616.csv",
+        ] {
+            let e = complete_shards(&set(&["mine.csv", name]))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(name) && e.contains("does not write"),
+                "{name}: {e}"
             );
         }
     }

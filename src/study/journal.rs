@@ -129,18 +129,53 @@ fn probe_path(journal: &Path, key: &str) -> PathBuf {
     dir.join(PROBES).join(format!("{key}.csv"))
 }
 
-/// The probe series written for `key` beside the journal, if any.
-fn read_probe(journal: &Path, key: &str) -> Result<Vec<(f64, f64, f64)>> {
-    let path = probe_path(journal, key);
+/// The probe series written for `r` beside the journal, if any, as the run wrote it: a row per
+/// sample (`steps + 1`), `t` the sample's time `n·dt`, every value finite; anything else (a file
+/// edited by hand) is refused naming the file, row and column.
+fn read_probe(journal: &Path, r: &RunRecord) -> Result<Vec<(f64, f64, f64)>> {
+    let path = probe_path(journal, &r.key);
     if !path.exists() {
         return Ok(Vec::new());
     }
     let err = |m: String| PROBE.error(&path, m);
     let text = PROBE.read(&path)?;
-    csv::Reader::from_reader(text.as_slice())
+    let rows: Vec<(f64, f64, f64)> = csv::Reader::from_reader(text.as_slice())
         .deserialize::<(f64, f64, f64)>()
         .map(|row| row.map_err(|e| err(e.to_string())))
-        .collect()
+        .collect::<Result<_>>()?;
+    let (steps, dt) = (r.summary.steps, r.summary.dt);
+    if rows.len() != steps + 1 {
+        return Err(err(format!(
+            "{} rows, not the {} samples of run {} ({steps} steps; edited by hand? remove it \
+             and its journal row to run it again)",
+            rows.len(),
+            steps + 1,
+            r.key
+        )));
+    }
+    // The writer's 13 significant digits, over the whole run.
+    let tolerance = 1e-9 * dt * steps.max(1) as f64;
+    for (n, row) in rows.iter().enumerate() {
+        let values = [row.0, row.1, row.2];
+        for (v, column) in values.iter().zip(PROBE_COLUMNS) {
+            if !v.is_finite() {
+                return Err(err(format!(
+                    "row {}, column `{column}`: {v} (a run's samples are finite)",
+                    n + 2
+                )));
+            }
+        }
+        let t = n as f64 * dt;
+        if (row.0 - t).abs() > tolerance {
+            return Err(err(format!(
+                "row {}, column `t`: {} (sample {n} of run {} is at n·dt = {t:e})",
+                n + 2,
+                row.0,
+                r.key
+            )));
+        }
+    }
+    Ok(rows)
 }
 
 /// Folder of the probe series, beside the journal.
@@ -283,7 +318,7 @@ pub fn run_study_with<R: Send>(
                     ),
                 ));
             }
-            r.probe = read_probe(&journal.path, &j.key)?;
+            r.probe = read_probe(&journal.path, &r)?;
             Ok(r)
         })
         .collect::<Result<_>>()?;

@@ -8,6 +8,7 @@ use super::run::{fmt_mib, summary_columns, summary_record, Summary, TIMING_COLUM
 use crate::error::Result;
 use crate::input::{Input, TABLE};
 use crate::output::csv::write_rows;
+use std::collections::HashMap;
 use std::path::Path;
 
 /// Columns of `records.csv` before the summary columns.
@@ -103,13 +104,35 @@ pub fn write_timings(path: &Path, records: &[RunRecord]) -> Result<()> {
 /// A records file read back (`dyncontact merge`).
 pub const RECORDS_FILE: Input = TABLE.named("records file");
 
-/// Reads records written by [`write_records`] (with or without the timing columns): one row
-/// per run, so a key that `seen` already holds (from this file or an earlier one) is refused,
-/// naming both places; the file's keys are added to `seen`.
-pub fn read_records(
-    path: &Path,
-    seen: &mut std::collections::HashMap<String, String>,
-) -> Result<Vec<RunRecord>> {
+/// What the record files of a merge read so far hold, for the checks across files.
+#[derive(Default)]
+pub struct Seen {
+    /// Each key's place (file, row).
+    keys: HashMap<String, String>,
+    /// Each case's case-file stem (the first part of its keys) with the place it came from.
+    stems: HashMap<String, (String, String)>,
+}
+
+/// The case file's stem that starts `r`'s key, which a sweep writes as
+/// `<stem>-<sweep>-<space>-<scheme>[-<parameters>]-L<level>` from the row's sweep, space,
+/// scheme and level (the parameters as the sweep named them, which the `parameters` column may
+/// spell otherwise); None when the key is not of the row's run.
+fn key_stem(r: &RunRecord) -> Option<&str> {
+    let s = &r.summary;
+    let body = r.key.strip_suffix(&format!("-L{}", r.level))?;
+    let run = format!("-{}-{}-{}", r.sweep, s.space, s.scheme);
+    let stem = body
+        .strip_suffix(&run)
+        .or_else(|| body.find(&format!("{run}-")).map(|k| &body[..k]))?;
+    (!stem.is_empty()).then_some(stem)
+}
+
+/// Reads records written by [`write_records`] (with or without the timing columns) for a
+/// merge. Refuses a key `seen` already holds (one run, one row: from this file or an earlier
+/// one), a key that is not of its row's run (sweep, space, scheme, parameters, level), and keys
+/// of two case files of one case (their runs would be fitted as one series), naming both
+/// places; adds the file's records to `seen`.
+pub fn read_records(path: &Path, seen: &mut Seen) -> Result<Vec<RunRecord>> {
     let text = RECORDS_FILE.read(path)?;
     let records: Vec<RunRecord> = read_rows(&text, path, RECORDS_FILE, &[])?
         .into_iter()
@@ -117,18 +140,60 @@ pub fn read_records(
         .collect();
     for (line, r) in records.iter().enumerate() {
         let here = format!("{}, row {}", path.display(), line + 2);
-        if let Some(first) = seen.insert(r.key.clone(), here) {
-            return Err(RECORDS_FILE.error(
+        let err = |m: String| {
+            RECORDS_FILE.error(
                 path,
-                format!(
-                    "row {}, column `key`: `{}` is the key of {first} too (one run, one row)",
-                    line + 2,
-                    r.key
-                ),
-            ));
+                format!("row {}, column `key`: `{}` {m}", line + 2, r.key),
+            )
+        };
+        if let Some(first) = seen.keys.insert(r.key.clone(), here.clone()) {
+            return Err(err(format!("is the key of {first} too (one run, one row)")));
+        }
+        let s = &r.summary;
+        let stem = key_stem(r).ok_or_else(|| {
+            err(format!(
+                "is not the key of its row's run, `<case file>-{}-{}-{}[-<parameters>]-L{}` \
+                 (edited by hand?)",
+                r.sweep, s.space, s.scheme, r.level
+            ))
+        })?;
+        // A run whose case failed to build may have no case (written so before 2026-11-29).
+        if s.case.is_empty() {
+            continue;
+        }
+        let (first, place) = seen
+            .stems
+            .entry(s.case.clone())
+            .or_insert_with(|| (stem.to_string(), here));
+        if first != stem {
+            return Err(err(format!(
+                "is a run of case file `{stem}`, {place} one of case file `{first}`, both of case \
+                 `{}`: their runs would be fitted as one series (merge each case file's records \
+                 apart)",
+                s.case
+            )));
         }
     }
     Ok(records)
+}
+
+/// Metric columns that are maxima of absolute values, norms or times (`reports/COLUMNS.md`),
+/// never negative: every `err_*` column and these.
+const MAGNITUDES: &[&str] = &[
+    "energy_drift",
+    "energy_drift_free",
+    "max_penetration",
+    "sigma_total_variation",
+    "impact_time_err",
+    "slide_velocity_err",
+    "friction_balance",
+    "momentum_drift",
+    "stop_time",
+];
+
+/// Whether the metric column `name` is never negative ([`MAGNITUDES`]).
+fn is_magnitude(name: &str) -> bool {
+    name.starts_with("err_") || MAGNITUDES.contains(&name)
 }
 
 /// Records from CSV text, each with the values of the `extra` columns (empty where the file has
@@ -210,14 +275,34 @@ pub fn read_rows(
         let (case, sweep) = (name("case")?, name("sweep")?);
         let mut metrics = Metrics::default();
         for c in METRIC_COLUMNS {
-            (c.set)(&mut metrics, float(c.name)?);
+            let v = float(c.name)?;
+            if let Some(x) = v.filter(|&x| x < 0.0 && is_magnitude(c.name)) {
+                return Err(err(format!(
+                    "{}: {x} (a maximum of absolute values, a norm or a time: ≥ 0; \
+                     see COLUMNS.md)",
+                    at(c.name)
+                )));
+            }
+            (c.set)(&mut metrics, v);
+        }
+        let key = text("key");
+        if key.is_empty() {
+            return Err(err(format!("{}: empty (every run has a key)", at("key"))));
+        }
+        let steps = count("steps")?;
+        // A run that did not finish records 0 steps; one that did took at least one.
+        if steps == 0 && status == Status::Ok {
+            return Err(err(format!(
+                "{}: 0 with status `ok` (a finished run took at least one step)",
+                at("steps")
+            )));
         }
         let degree = match text("degree").as_str() {
             "" => None,
             _ => Some(count("degree")?),
         };
         let record = RunRecord {
-            key: text("key"),
+            key,
             sweep,
             level: count("level")?,
             status,
@@ -233,7 +318,7 @@ pub fn read_rows(
                 h: nan(size("h", false)?),
                 dt: size("dt", false)?.ok_or_else(|| err(format!("{}: empty", at("dt"))))?,
                 dofs: count("dofs")?,
-                steps: count("steps")?,
+                steps,
                 contact_iterations: count("contact_iterations")?,
                 wall_time: size("wall_time_s", true)?.unwrap_or(0.0),
                 max_rss: size("max_rss_mb", true)?.map_or(f64::NAN, |m| m * 1048576.0),
