@@ -2,7 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use dyncontact::cases::{self, Overrides};
-use dyncontact::study::{jobs, journal, metrics, orders, records, reference, run};
+use dyncontact::study::{jobs, journal, orders, records, reference, run};
 use dyncontact::{Error, Result};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -286,20 +286,23 @@ fn main_result(cli: Cli) -> Result<()> {
             resume,
             profile,
         } => {
-            // The output directory first: a profile in it (or beside a refused one) is then
-            // created in a directory that exists, and never under a name the report writes.
-            dyncontact::util::output_dir(&out, "--out")?;
             if let Some(p) = &profile {
-                let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
+                // The report owns --out (figures, their data, the lock, probes/): a profile
+                // there could be overwritten or removed. --out is created first, so that a
+                // symlink or a relative path is compared where it leads.
+                dyncontact::util::output_dir(&out, "--out")?;
                 let parent = p.parent().filter(|d| !d.as_os_str().is_empty());
-                let inside =
-                    parent.unwrap_or(Path::new(".")).canonicalize().ok() == out.canonicalize().ok();
-                if inside && dyncontact::report::index::writes(name) {
+                let target = p.canonicalize().ok().or_else(|| {
+                    let dir = parent.unwrap_or(Path::new(".")).canonicalize().ok()?;
+                    Some(dir.join(p.file_name()?))
+                });
+                let inside = target.zip(out.canonicalize().ok());
+                if inside.is_some_and(|(t, o)| t.starts_with(o)) {
                     return Err(Error::invalid(
                         "--profile",
                         p.display().to_string(),
-                        "the report writes a file of this name in --out: name the profile \
-                         otherwise",
+                        "inside --out, whose files the report writes, locks and replaces: \
+                         write the profile elsewhere",
                     ));
                 }
                 dyncontact::study::profile::start(p)?;
@@ -395,15 +398,13 @@ fn main_result(cli: Cli) -> Result<()> {
                 say!("wrote {}/{}.pvd", f.dir.display(), s.case);
             }
             // Finite but blown up: written (the curves show it), and refused as a study does.
-            let blowup = metrics::first_blowup(&result.rows, jobs::BLOWUP_FACTOR);
-            match blowup {
-                Some((step, time, drift)) => Err(Error::Diverged {
+            match jobs::blowup(&result.rows) {
+                Some((step, time, reason)) => Err(Error::Diverged {
                     step,
                     time,
                     reason: format!(
-                        "the energy exceeded {} × E(0) (|E − E(0)| = {drift:.3e} E(0)); a \
-                         study records this run as diverged, and the files above show it",
-                        jobs::BLOWUP_FACTOR
+                        "{reason}; a study records this run as diverged, and the files above \
+                         show it"
                     ),
                 }),
                 None => Ok(()),

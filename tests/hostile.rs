@@ -859,6 +859,13 @@ fn fields_that_break_or_do_nothing_are_named_themselves() {
         .filter(|n| n.ends_with(".vtu"))
         .collect();
     assert_eq!(written, ["block2d_000000.vtu"]);
+    // A box under a graded disc takes body 1's [mesh] without its grading (it was refused as
+    // master.mesh.grading, a field the file does not set).
+    let master = "[master]\n[master.geometry]\nshape = \"box\"\nsize = [2.0, 0.5]\n\
+                  velocity = 0.0\n\n[[sweep]]";
+    let boxed = edited(&own("boxed"), "two_discs.toml", &[("[[sweep]]", master)]);
+    let out = run(&boxed, &["--t-end", "0.1"]);
+    assert!(out.status.success(), "{}", stderr(&out));
 }
 
 /// A FIFO where a study writes its profile or its lock file blocked forever (opening it for
@@ -1586,10 +1593,21 @@ fn studies_fit_only_refinements_keep_their_figures_and_their_records() {
         rows == 35 && said.contains("35 of 35 runs already recorded"),
         "{said}"
     );
+    // The case file edited to four levels: its fifth level's rows are of the file before the
+    // edit, which no run takes again, and go.
+    edited(
+        &cases,
+        "spring_mass.toml",
+        &[
+            ("t_end = 10.0", "t_end = 1.0"),
+            ("levels = 5", "levels = 4"),
+        ],
+    );
+    assert_eq!(report(&["--resume"]).0, 28);
 }
 
 /// `--profile` named as a file the report writes in `--out` was overwritten by it (the profile
-/// lost, exit 0); in a directory that `--out` creates it was refused.
+/// lost, exit 0), or removed (its lock file): a profile inside `--out` is refused.
 #[test]
 fn a_profile_is_never_a_file_the_report_writes() {
     let dir = tempfile::tempdir().unwrap();
@@ -1613,17 +1631,20 @@ fn a_profile_is_never_a_file_the_report_writes() {
         ];
         dyncontact(&[&args[..], &["--profile", &format!("{r}/{profile}")]].concat())
     };
-    let out = report("profile.csv");
+    let out = report("../profile.csv");
     assert!(out.status.success(), "{}", stderr(&out));
-    let profile = std::fs::read_to_string(r.join("profile.csv")).unwrap();
+    let profile = std::fs::read_to_string(dir.path().join("profile.csv")).unwrap();
     assert!(
         profile.starts_with("kind,task,") && profile.lines().count() > 21,
         "{profile}"
     );
-    for taken in ["journal.csv", "summary.csv", "index.md"] {
-        assert_clear_error(
-            &report(taken),
-            &["--profile", taken, "name the profile otherwise"],
-        );
+    for taken in [
+        "journal.csv",
+        "journal.csv.lock",
+        "probes",
+        "mine.csv",
+        "./probes/../p.csv",
+    ] {
+        assert_clear_error(&report(taken), &["--profile", taken, "inside --out"]);
     }
 }

@@ -180,7 +180,7 @@ fn default_shape() -> String {
 fn default_degree() -> usize {
     1
 }
-fn default_grading() -> f64 {
+pub(super) fn default_grading() -> f64 {
     1.0
 }
 

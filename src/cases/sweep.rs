@@ -203,9 +203,10 @@ impl SweepSpec {
         }
         unused_degree(&self.degree, &self.spaces, field)?;
         if let Some(twice) = crate::util::first_repeated(&self.refinements) {
+            let elements = twice.elements.map(|n| format!("elements = {n}, "));
             return Err(Error::invalid(
                 field("refinements"),
-                twice,
+                format_args!("{{ {}dt = {} }}", elements.unwrap_or_default(), twice.dt),
                 "a level listed twice: the levels must refine (no order is fitted otherwise)",
             ));
         }

@@ -382,7 +382,15 @@ impl TwoBodies {
             ],
             None => [None, None],
         };
-        let mesh2 = m.mesh.clone().unwrap_or_else(|| spec.mesh.clone());
+        // Body 1's [mesh] when body 2 has none; its grading only where body 2 is round too
+        // (a box master under a graded disc would be refused for a field the file never set).
+        let mesh2 = m.mesh.clone().unwrap_or_else(|| MeshSpec {
+            grading: match geometry2.shape.as_str() {
+                "box" => super::body::default_grading(),
+                _ => spec.mesh.grading,
+            },
+            ..spec.mesh.clone()
+        });
         let contact2 = m.contact.clone().unwrap_or_else(|| spec.contact.clone());
         // Two bodies read from a Gmsh file are two meshes, never twins.
         let twins = meshes.is_none()

@@ -63,7 +63,7 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("tangential_impulse", "case (mass·length/time)", "oblique impact: `J_t = m_t (v_t(T) − v_t(0))` along the first tangent (negative: against the motion); `|J_t| = μ J_n` when the contact slides throughout"),
     // orders.csv
     ("quantity", "—", "the metric column fitted"),
-    ("order", "1", "least-squares slope of ln(error) against ln(h) (ln(dt) for the 0D spring, or where only dt is refined) over the usable levels (status `ok`, error finite and > 0), fitted only where their sizes span at least 1.1 times; read it with `verdict`"),
+    ("order", "1", "least-squares slope of ln(error) against ln(h) (ln(dt) for the 0D spring) over the usable levels (status `ok`, error finite and > 0), fitted only where their sizes span at least 1.1 times; read it with `verdict`"),
     ("fit_residual", "1", "RMS residual of that fit, in ln (above 0.25 the errors do not lie on a line)"),
     ("points", "—", "levels used by the fit"),
     ("literature", "1", "the order expected from theory, where known (`1`, `1/3-1/2`)"),

@@ -36,7 +36,7 @@ pub fn says(o: &Order) -> String {
         (Verdict::Irregular, Some((_, r))) => {
             format!("errors off any line (fit residual {r:.2}, {first:.2e} → {last:.2e})")
         }
-        _ => "fewer than two usable levels".into(),
+        _ => "fewer than two usable levels of distinct sizes".into(),
     }
 }
 
@@ -140,7 +140,7 @@ pub fn findings(
          converges more slowly than expected; ✗ (red): does not converge: an order below {} \
          (\"stalls\"), or a fit that is not an order and is flagged instead: an error that grows (\"grows\"), a \
          finest error within {:.0} % of the coarsest (\"flat\"), a fit residual above {} in ln \
-         (\"irregular\"); · (grey): fewer than two usable levels. \
+         (\"irregular\"); · (grey): fewer than two usable levels of distinct sizes. \
          Below each case, the conclusions these numbers support, each with the claim it checks \
          and its source.",
         100.0 * orders::MEETS,

@@ -359,8 +359,7 @@ const FILES: &[(&str, &str)] = &[
     ),
     (
         "orders.csv",
-        "observed orders: the slope of log(error) against log(h) (log(dt) for the spring or a \
-         time-only refinement), its \
+        "observed orders: the slope of log(error) against log(h) (log(dt) for the spring), its \
          RMS residual, the levels used, the literature's value and the reference of the errors",
     ),
     (

@@ -18,14 +18,17 @@ use std::sync::Arc;
 /// A run whose energy exceeds this multiple of E(0) is recorded as diverged.
 pub const BLOWUP_FACTOR: f64 = 100.0;
 
-/// Why a finished run counts as diverged: its energy left [`BLOWUP_FACTOR`] × E(0), with the step
-/// and time at which it first did (None when it never did).
-pub fn blowup(rows: &[Row]) -> Option<String> {
+/// Why a finished run counts as diverged: its energy left [`BLOWUP_FACTOR`] × E(0) (by more
+/// than [`BLOWUP_FACTOR`] when E(0) = 0), as `(step, time, reason)` at the first step it did.
+pub fn blowup(rows: &[Row]) -> Option<(usize, f64, String)> {
+    let e0 = rows.first()?.energy;
     metrics::first_blowup(rows, BLOWUP_FACTOR).map(|(step, t, drift)| {
-        format!(
-            "energy exceeded {BLOWUP_FACTOR} × E(0) at step {step} (t = {t:.6e}; |E − E(0)| = \
-             {drift:.3e} E(0))"
-        )
+        let reason = if e0 == 0.0 {
+            format!("the energy exceeded {BLOWUP_FACTOR} from E(0) = 0 (|E| = {drift:.3e})")
+        } else {
+            format!("the energy exceeded {BLOWUP_FACTOR} × E(0) (|E − E(0)| = {drift:.3e} E(0))")
+        };
+        (step, t, reason)
     })
 }
 
@@ -345,7 +348,8 @@ pub fn run_job_keeping(job: &Job) -> (RunRecord, Option<RunResult>) {
             Err(e) => failed(e, Some(case.as_ref())),
             Ok(r) => {
                 let summary = r.summary.clone();
-                let outcome = if let Some(reason) = blowup(&r.rows) {
+                let outcome = if let Some((step, t, reason)) = blowup(&r.rows) {
+                    let reason = format!("{reason} at step {step} (t = {t:.6e})");
                     (Status::Diverged, reason, summary)
                 } else {
                     if case.exact().is_none() {

@@ -7,7 +7,8 @@
 //! which the reference errors need, is written beside it as `probes/<key>.csv` before the
 //! journal line. A torn last line (a kill during the write) is dropped on resume. When the
 //! study is over, [`rewrite`] writes the journal again in run order with the final records (the
-//! reference errors included), so that it and `summary.csv` hold the same metrics.
+//! reference errors included), so that it and `summary.csv` hold the same metrics, then the
+//! recorded runs a narrower `--resume` (`--case`, `--quick`) left out.
 //!
 //! The outputs are always computed from what the journal holds, read back, so an interrupted
 //! and resumed study writes the same bytes as an uninterrupted one.
@@ -326,33 +327,36 @@ pub fn run_study_with<R: Send>(
 }
 
 /// Writes `dir/journal` again with `records` (the final ones, one per job, in job order), so
-/// that it holds what `summary.csv` holds, then the rows of the runs outside this selection
-/// (another `--case`, `--quick` or not: the last row of each key), kept for a later `--resume`;
-/// [`write_rows`] writes it beside and renames it, so that a kill leaves the old journal or the
-/// new one.
+/// that it holds what `summary.csv` holds, then the rows of the runs a narrower selection left
+/// out (another `--case`, `--quick` or not), by key, for a later `--resume`: the last row of
+/// each key that is not a job, unless its case is one of this selection's with another hash
+/// (a row of the case file before an edit, which no run would take again). [`write_rows`]
+/// writes it beside and renames it, so that a kill leaves the old journal or the new one.
 pub fn rewrite(dir: &Path, journal: &str, jobs: &[Job], records: &[RunRecord]) -> Result<()> {
     let path = dir.join(journal);
     let mine: std::collections::HashSet<&str> = jobs.iter().map(|j| j.key.as_str()).collect();
+    let hashes: HashMap<&str, &str> = records
+        .iter()
+        .zip(jobs)
+        .map(|(r, j)| (r.summary.case.as_str(), j.file.hash.as_str()))
+        .collect();
     let old = match path.exists() {
         true => read_journal(&JOURNAL.read(&path)?, &path)?,
         false => Vec::new(),
     };
-    let last: HashMap<&str, usize> = old
-        .iter()
-        .enumerate()
-        .map(|(i, (r, _))| (r.key.as_str(), i))
-        .collect();
-    let others = old
-        .iter()
-        .enumerate()
-        .filter(|(i, (r, _))| !mine.contains(r.key.as_str()) && last[r.key.as_str()] == *i)
-        .map(|(_, (r, hash))| fields(r, hash));
+    let mut others: std::collections::BTreeMap<&str, Vec<String>> = Default::default();
+    for (r, hash) in &old {
+        let current = hashes.get(r.summary.case.as_str());
+        if !mine.contains(r.key.as_str()) && current.is_none_or(|h| h == hash) {
+            others.insert(r.key.as_str(), fields(r, hash));
+        }
+    }
     write_rows(
         &path,
         &header(),
         jobs.iter()
             .zip(records)
             .map(|(j, r)| fields(r, &j.file.hash))
-            .chain(others),
+            .chain(others.into_values()),
     )
 }

@@ -587,6 +587,25 @@ mod tests {
             .collect()
     }
 
+    /// The first step whose energy left `factor` × E(0), relative as `energy_drift` (absolute
+    /// from E(0) = 0), and the same maximum as `energy_drift` past it.
+    #[test]
+    fn a_blow_up_is_dated_at_its_first_step() {
+        let grown = rows(&[2.0, 3.0, 150.0, 1e9, 4.0]);
+        assert_eq!(
+            first_blowup(&grown, 100.0),
+            Some((3, 3.0, (1e9 - 2.0) / 2.0))
+        );
+        assert_eq!(first_blowup(&grown[..3], 100.0), None);
+        let m = compute(&grown, &[], 1.0, true, None);
+        assert!(m.energy_drift > 100.0 && first_blowup(&grown, m.energy_drift).is_none());
+        assert_eq!(
+            first_blowup(&rows(&[0.0, 50.0, -150.0]), 100.0),
+            Some((2, 2.0, 150.0))
+        );
+        assert_eq!(first_blowup(&[], 100.0), None);
+    }
+
     #[test]
     fn the_energy_errors_are_absolute_when_the_initial_energy_is_zero() {
         let m = compute(&rows(&[0.0, 0.0, 0.0]), &[], 1.0, true, None);

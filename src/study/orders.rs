@@ -1,7 +1,7 @@
 //! Observed orders of convergence from run records: least-squares slope of log(error) against
-//! log(h) (log(dt) for a 0D case or a time-only refinement) per case × sweep × space × scheme ×
-//! quantity, with the RMS residual of the fit and the value expected from the literature where
-//! known.
+//! log(h) (log(dt) for a 0D case) per case × sweep × space × scheme × quantity, with the RMS
+//! residual of the fit and the value expected from the literature where known. A series whose
+//! sizes do not refine (span less than [`MIN_SPAN`]) is not fitted.
 
 use super::jobs::{RunRecord, Status};
 use super::metrics::{Metrics, METRIC_COLUMNS};
@@ -176,15 +176,15 @@ pub struct Order {
     pub parameters: String,
     /// Quantity name.
     pub quantity: &'static str,
-    /// Least-squares slope of log(error) against log(h) (log(dt) for 0D cases, or when only dt
-    /// is refined) and the RMS residual of the fit; None with fewer than two usable levels or
-    /// sizes that span less than [`MIN_SPAN`].
+    /// Least-squares slope of log(error) against log(h) (log(dt) for 0D cases) and the RMS
+    /// residual of the fit; None with fewer than two usable levels or sizes that span less
+    /// than [`MIN_SPAN`].
     pub fit: Option<(f64, f64)>,
     /// Levels used (status ok, error finite and > 0).
     pub points: usize,
     /// The error at the coarsest and at the finest usable level.
     pub ends: Option<(f64, f64)>,
-    /// h (dt for a 0D case or a time-only refinement) of the finest usable level.
+    /// h (dt for a 0D case) of the finest usable level.
     pub finest: Option<f64>,
     /// What the errors are measured against: `exact`, `own finest level`, or the common
     /// reference `<space> <scheme> (<parameters>) finest level`.
@@ -232,10 +232,9 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
             if runs.iter().all(|r| get(&r.summary.metrics).is_none()) {
                 continue;
             }
-            let pts: Vec<(f64, f64)> = match refined(&usable) {
-                Some(size) => usable.iter().map(|(s, e)| (size(s), *e)).collect(),
-                None => Vec::new(),
-            };
+            // h, or dt for the 0D spring (whose h is NaN), as the figures draw them.
+            let size = |s: &Summary| if s.h.is_finite() { s.h } else { s.dt };
+            let pts: Vec<(f64, f64)> = usable.iter().map(|(s, e)| (size(s), *e)).collect();
             let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
             // Levels come coarsest first.
             let finest = pts.iter().copied().min_by(|a, b| a.0.total_cmp(&b.0));
@@ -247,7 +246,7 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
                 scheme: scheme.clone(),
                 parameters: parameters.clone(),
                 quantity,
-                fit: (pts.len() >= 2).then(|| fit_order(&x, &y)),
+                fit: refines(&usable).then(|| fit_order(&x, &y)),
                 points: pts.len(),
                 ends: coarsest.zip(finest).map(|(c, f)| (c.1, f.1)),
                 finest: finest.map(|f| f.0),
@@ -262,21 +261,23 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
 /// (repeated or near-repeated levels gave a NaN or an order of 10⁹).
 pub const MIN_SPAN: f64 = 1.1;
 
-/// The size the levels refine: h when it spans [`MIN_SPAN`] (finite h), else dt when it does
-/// (the 0D spring, or a time-only refinement); None when neither does.
-fn refined(levels: &[(&Summary, f64)]) -> Option<fn(&Summary) -> f64> {
-    let spans = |size: fn(&Summary) -> f64| {
-        let (lo, hi) = levels
-            .iter()
-            .map(|(s, _)| size(s))
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-                (lo.min(x), hi.max(x))
-            });
-        lo > 0.0 && hi.is_finite() && hi >= MIN_SPAN * lo
-    };
-    let h: fn(&Summary) -> f64 = |s| s.h;
-    let dt: fn(&Summary) -> f64 = |s| s.dt;
-    [h, dt].into_iter().find(|&size| spans(size))
+/// True when the levels are a refinement to fit: at least two, all with a finite h or all
+/// without (the 0D spring: dt), their sizes finite, positive and spanning [`MIN_SPAN`].
+fn refines(levels: &[(&Summary, f64)]) -> bool {
+    let with_h = levels.iter().filter(|(s, _)| s.h.is_finite()).count();
+    if levels.len() < 2 || (with_h != 0 && with_h != levels.len()) {
+        return false;
+    }
+    let sizes: Vec<f64> = levels
+        .iter()
+        .map(|(s, _)| if with_h > 0 { s.h } else { s.dt })
+        .collect();
+    if sizes.iter().any(|x| !(x.is_finite() && *x > 0.0)) {
+        return false;
+    }
+    let lo = sizes.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = sizes.iter().copied().fold(0.0, f64::max);
+    hi >= MIN_SPAN * lo
 }
 
 impl Order {
@@ -369,6 +370,51 @@ mod tests {
             finest: h.last().copied(),
             reference: "exact".into(),
         }
+    }
+
+    fn level(h: f64, dt: f64) -> Summary {
+        Summary {
+            case: "bar1d".into(),
+            space: "standard".into(),
+            scheme: "newmark".into(),
+            parameters: String::new(),
+            contact: "nodal".into(),
+            degree: Some(1),
+            cells: "segment".into(),
+            h,
+            dt,
+            dofs: 1,
+            steps: 1,
+            contact_iterations: 0,
+            wall_time: 0.0,
+            max_rss: f64::NAN,
+            metrics: Metrics::unavailable(),
+        }
+    }
+
+    /// Only a refinement is fitted: repeated or near-repeated sizes (a NaN, or an order of 10⁹,
+    /// before), a level without h among levels with one, a single level are not.
+    #[test]
+    fn only_levels_that_refine_are_fitted() {
+        let fits = |sizes: &[(f64, f64)]| {
+            let levels: Vec<Summary> = sizes.iter().map(|&(h, dt)| level(h, dt)).collect();
+            let usable: Vec<(&Summary, f64)> = levels.iter().map(|s| (s, 1.0)).collect();
+            refines(&usable)
+        };
+        assert!(fits(&[(0.1, 0.01), (0.05, 0.005)]));
+        assert!(
+            fits(&[(f64::NAN, 0.01), (f64::NAN, 0.005)]),
+            "the spring: dt"
+        );
+        assert!(!fits(&[(0.1, 0.01)]));
+        assert!(
+            !fits(&[(0.1, 0.01), (0.1, 0.005)]),
+            "h repeated: not against dt"
+        );
+        assert!(!fits(&[(0.1, 0.01), (0.1 * (1.0 + 1e-9), 0.01)]));
+        assert!(!fits(&[(0.1, 0.01), (f64::NAN, 0.005), (0.025, 0.0025)]));
+        assert!(!fits(&[(f64::NAN, 0.01), (f64::NAN, 0.01)]));
+        assert!(!fits(&[(0.1, 0.01), (-0.05, 0.005)]));
     }
 
     /// The verdicts of the examples: hertz2d standard's peak pressure error growing
