@@ -1534,6 +1534,10 @@ fn studies_fit_only_refinements_keep_their_figures_and_their_records() {
         "{orders}"
     );
     assert!(!orders.contains("NaN"), "{orders}");
+    // The key names the restitution the run uses, the spring's own (it said the default, 0).
+    let records = std::fs::read_to_string(o.join("records.csv")).unwrap();
+    let keyed = "spring_mass-orders-standard-paoli_schatzman-restitution=1-L0,";
+    assert!(records.contains(keyed), "{records}");
     // Two unnamed histories, refused before any run.
     let cases = dir.path().join("cases");
     std::fs::create_dir_all(&cases).unwrap();

@@ -664,6 +664,16 @@ impl CaseFile {
         })
     }
 
+    /// Completes a run specification as the case will when it builds, with what it takes from
+    /// its own tables (the spring's physical restitution), so that a study keys the run by the
+    /// parameters it uses.
+    pub fn complete(&self, run: &mut RunSpec) -> Result<()> {
+        match &self.spec {
+            Spec::SpringMass(s) => spring_mass::physical_restitution(run, s.system.restitution),
+            _ => Ok(()),
+        }
+    }
+
     /// Refuses the overrides the case would ignore (a mesh override given to a case without
     /// that kind of mesh), naming the flag.
     pub fn check_overrides(&self, o: &Overrides) -> Result<()> {

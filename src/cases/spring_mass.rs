@@ -64,17 +64,23 @@ pub struct SpringMassCase {
     sweeps: Vec<super::sweep::SweepSpec>,
 }
 
+/// The schemes with a restitution law use the physical one, `system.restitution`, unless told
+/// otherwise (the run, and the key a study gives it, say the one used).
+pub(super) fn physical_restitution(run: &mut RunSpec, e: f64) -> Result<()> {
+    let restitution = &crate::time::paoli_schatzman::RESTITUTION;
+    if super::applicable(&run.scheme, &run.options)?.contains(&restitution.name) {
+        run.options.params.or_set(restitution, e);
+    }
+    Ok(())
+}
+
 impl SpringMassCase {
     /// Validates the spec and precomputes the exact trajectory.
     pub fn from_spec(spec: SpringMassSpec, o: &Overrides) -> Result<Self> {
         let s = spec.system;
         let mut run = spec.run;
         o.apply(&mut run);
-        // The schemes with a restitution law use the physical one unless told otherwise.
-        let restitution = &crate::time::paoli_schatzman::RESTITUTION;
-        if super::applicable(&run.scheme, &run.options)?.contains(&restitution.name) {
-            run.options.params.or_set(restitution, s.restitution);
-        }
+        physical_restitution(&mut run, s.restitution)?;
         run.validate()?;
         super::check_time_scale(
             ("system.mass", s.mass),

@@ -251,6 +251,7 @@ fn sweep_jobs(file: &Arc<CaseFile>, quick: bool) -> Result<Vec<Job>> {
                             choice.label()
                         ))
                     };
+                    file.complete(&mut spec).map_err(in_job)?;
                     spec.validate().map_err(in_job)?;
                     let parameters = spec.parameters().map_err(in_job)?;
                     let size = file.size(&overrides);
