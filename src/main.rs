@@ -287,25 +287,7 @@ fn main_result(cli: Cli) -> Result<()> {
             profile,
         } => {
             if let Some(p) = &profile {
-                // The report owns --out (figures, their data, the lock, probes/): a profile
-                // there could be overwritten or removed. --out is created first, so that a
-                // symlink or a relative path is compared where it leads.
-                dyncontact::util::output_dir(&out, "--out")?;
-                let parent = p.parent().filter(|d| !d.as_os_str().is_empty());
-                let target = p.canonicalize().ok().or_else(|| {
-                    let dir = parent.unwrap_or(Path::new(".")).canonicalize().ok()?;
-                    Some(dir.join(p.file_name()?))
-                });
-                let inside = target.zip(out.canonicalize().ok());
-                if inside.is_some_and(|(t, o)| t.starts_with(o)) {
-                    return Err(Error::invalid(
-                        "--profile",
-                        p.display().to_string(),
-                        "inside --out, whose files the report writes, locks and replaces: \
-                         write the profile elsewhere",
-                    ));
-                }
-                dyncontact::study::profile::start(p)?;
+                dyncontact::study::profile::start(p, &out)?;
             }
             let opts = dyncontact::report::Options {
                 quick,

@@ -89,11 +89,9 @@ pub fn validate_histories(histories: &[HistorySpec]) -> Result<()> {
     for h in histories {
         h.validate()?;
     }
-    let again = (1..histories.len()).find(|&i| {
-        let name = &histories[i].name;
-        histories[..i].iter().any(|h| &h.name == name)
-    });
-    match again.map(|i| &histories[i]) {
+    let names: Vec<&str> = histories.iter().map(|h| h.name.as_str()).collect();
+    let again = crate::util::first_repeated(&names);
+    match again.and_then(|name| histories.iter().find(|h| h.name == *name)) {
         Some(h) => Err(Error::invalid(
             h.field("name"),
             &h.name,

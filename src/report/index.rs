@@ -343,12 +343,6 @@ fn hertz_section(d: &mut Doc, records: &[&RunRecord]) {
     }
 }
 
-/// True when the report writes a file of this name at the top of its directory (a file of
-/// [`FILES`], or the index itself).
-pub fn writes(name: &str) -> bool {
-    ["index.md", "index.html"].contains(&name) || FILES.iter().any(|(f, _)| *f == name)
-}
-
 /// What each file of a report holds, by name (the others are the data of a figure).
 const FILES: &[(&str, &str)] = &[
     (

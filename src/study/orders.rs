@@ -232,8 +232,6 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
             if runs.iter().all(|r| get(&r.summary.metrics).is_none()) {
                 continue;
             }
-            // h, or dt for the 0D spring (whose h is NaN), as the figures draw them.
-            let size = |s: &Summary| if s.h.is_finite() { s.h } else { s.dt };
             let pts: Vec<(f64, f64)> = usable.iter().map(|(s, e)| (size(s), *e)).collect();
             let (x, y): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
             // Levels come coarsest first.
@@ -261,6 +259,16 @@ pub fn orders(records: &[RunRecord]) -> Vec<Order> {
 /// (repeated or near-repeated levels gave a NaN or an order of 10⁹).
 pub const MIN_SPAN: f64 = 1.1;
 
+/// The size a level is fitted against: h, or dt for the 0D spring (whose h is NaN), as the
+/// figures draw them.
+fn size(s: &Summary) -> f64 {
+    if s.h.is_finite() {
+        s.h
+    } else {
+        s.dt
+    }
+}
+
 /// True when the levels are a refinement to fit: at least two, all with a finite h or all
 /// without (the 0D spring: dt), their sizes finite, positive and spanning [`MIN_SPAN`].
 fn refines(levels: &[(&Summary, f64)]) -> bool {
@@ -268,10 +276,7 @@ fn refines(levels: &[(&Summary, f64)]) -> bool {
     if levels.len() < 2 || (with_h != 0 && with_h != levels.len()) {
         return false;
     }
-    let sizes: Vec<f64> = levels
-        .iter()
-        .map(|(s, _)| if with_h > 0 { s.h } else { s.dt })
-        .collect();
+    let sizes: Vec<f64> = levels.iter().map(|(s, _)| size(s)).collect();
     if sizes.iter().any(|x| !(x.is_finite() && *x > 0.0)) {
         return false;
     }

@@ -18,8 +18,10 @@ static PROFILE: OnceLock<(Mutex<std::fs::File>, Instant)> = OnceLock::new();
 /// Clock ticks per second of `/proc/*/stat` (`USER_HZ`, 100 on every Linux ABI).
 const TICKS: f64 = 100.0;
 
-/// Starts profiling into `path` (a new CSV with its header).
-pub fn start(path: &Path) -> Result<()> {
+/// Starts profiling into `path` (a new CSV with its header), outside the report's directory
+/// `out`, whose files the report writes, locks and replaces (`out` is created first, so that a
+/// symlink or a relative path is compared where it leads).
+pub fn start(path: &Path, out: &Path) -> Result<()> {
     // Named by its flag: the file is created before the work, and `report --profile` is its
     // only caller.
     let refuse = |e: std::io::Error| {
@@ -29,6 +31,23 @@ pub fn start(path: &Path) -> Result<()> {
             &format!("cannot be written: {e}"),
         )
     };
+    crate::util::output_dir(out, "--out")?;
+    let parent = path.parent().filter(|d| !d.as_os_str().is_empty());
+    let target = path.canonicalize().ok().or_else(|| {
+        let dir = parent.unwrap_or(Path::new(".")).canonicalize().ok()?;
+        Some(dir.join(path.file_name()?))
+    });
+    if target
+        .zip(out.canonicalize().ok())
+        .is_some_and(|(t, o)| t.starts_with(o))
+    {
+        return Err(Error::invalid(
+            "--profile",
+            path.display().to_string(),
+            "inside --out, whose files the report writes, locks and replaces: write the \
+             profile elsewhere",
+        ));
+    }
     // A FIFO would block the open until a reader comes; a device (/dev/null, a terminal's
     // /dev/stdout) takes the lines.
     if let Some(kind @ ("a FIFO" | "a directory")) = crate::input::not_regular(path) {
