@@ -179,6 +179,11 @@ fn list(dir: &Path) -> Result<()> {
     print_registry("schemes", dyncontact::time::SCHEMES);
     print_registry("contact formulations", dyncontact::contact::FORMULATIONS);
     say!(
+        "weak multiplier spaces (--contact-multiplier): {} (default {})",
+        dyncontact::contact::weak::MULTIPLIERS.join(", "),
+        dyncontact::contact::weak::MULTIPLIERS[0]
+    );
+    say!(
         "contact solvers: {}",
         dyncontact::contact::SOLVERS.join(", ")
     );
@@ -251,14 +256,14 @@ fn sweep(
         .filter(|r| r.status != jobs::Status::Ok)
         .count();
     say!(
-        "wrote {}/{name} ({}, {failed} not ok)",
-        out.display(),
+        "wrote {} ({}, {failed} not ok)",
+        out.join(&name).display(),
         dyncontact::util::count(records.len(), "run")
     );
     if shard.is_none() {
         let orders = orders::orders(&records);
         orders::write_orders(&out.join("orders.csv"), &orders)?;
-        say!("wrote {}/orders.csv", out.display());
+        say!("wrote {}", out.join("orders.csv").display());
     }
     Ok(())
 }
@@ -299,7 +304,7 @@ fn main_result(cli: Cli) -> Result<()> {
             say!(
                 "{}; wrote {}/index.md and index.html",
                 dyncontact::util::count(records.len(), "run"),
-                out.display()
+                shown(&out)
             );
             Ok(())
         }
@@ -308,7 +313,7 @@ fn main_result(cli: Cli) -> Result<()> {
             say!(
                 "{} merged; wrote {}/index.md and index.html",
                 dyncontact::util::count(records.len(), "run"),
-                out.display()
+                shown(&out)
             );
             Ok(())
         }
@@ -374,10 +379,10 @@ fn main_result(cli: Cli) -> Result<()> {
             );
             say!(
                 "wrote {}/{{timeseries.csv, summary.csv, energy.png, contact.png}} (and the PNGs as SVG)",
-                out.display()
+                shown(&out)
             );
             if let Some(f) = &fields {
-                say!("wrote {}/{}.pvd", f.dir.display(), s.case);
+                say!("wrote {}", f.dir.join(format!("{}.pvd", s.case)).display());
             }
             // Finite but blown up: written (the curves show it), and refused as a study does.
             match jobs::blowup(&result.rows) {
@@ -429,4 +434,10 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// A directory as the user gave it, without a trailing separator (`sweep/` → `sweep`), to
+/// name the files written into it.
+fn shown(dir: &Path) -> String {
+    dir.components().as_path().display().to_string()
 }

@@ -216,8 +216,8 @@ fn check_thread_count(name: &str, text: &str, cores: usize) -> crate::Result<()>
             "must be a whole number of worker threads (0: one per core)",
         )),
         Ok(n) if n > cap => Err(refuse(&format!(
-            "at most {cap} worker threads on this machine ({THREADS_PER_CORE} per core, or \
-             {MIN_THREAD_CAP}): each takes a stack, and the report runs a case on each"
+            "at most {cap} worker threads on this machine (the larger of {THREADS_PER_CORE} per \
+             core and {MIN_THREAD_CAP}): each takes a stack, and the report runs a case on each"
         ))),
         Ok(_) => Ok(()),
     }

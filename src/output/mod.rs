@@ -7,12 +7,12 @@ pub mod field_plot;
 pub mod plot;
 pub mod vtu;
 
-/// A float as written to CSV: `{:.12e}`; `None` and NaN (a value that does not exist, e.g. h
-/// of a 0D case or a metric of a run that did not finish) as an empty field, the one
-/// missing-value convention of every CSV.
+/// A float as written to CSV: `{:.12e}`, −0 as 0 (`approach` at t = 0); `None` and NaN (a
+/// value that does not exist, e.g. h of a 0D case or a metric of a run that did not finish) as
+/// an empty field, the one missing-value convention of every CSV.
 pub fn fmt_float(x: Option<f64>) -> String {
     match x {
-        Some(v) if !v.is_nan() => format!("{v:.12e}"),
+        Some(v) if !v.is_nan() => format!("{:.12e}", v + 0.0),
         _ => String::new(),
     }
 }

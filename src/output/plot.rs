@@ -835,7 +835,8 @@ fn draw_legend<DB: DrawingBackend>(
     Ok(())
 }
 
-/// `label` in lines of at most `width` pixels, broken after `;`, `,` or a space.
+/// `label` in lines of at most `width` pixels, broken after `;`, `,`, a space or `_` (a
+/// method's name longer than the column, `contact_stabilised_newmark`).
 fn wrap<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     label: &str,
@@ -850,7 +851,7 @@ fn wrap<DB: DrawingBackend>(
     let mut word = String::new();
     for c in label.chars() {
         word.push(c);
-        if c == ';' || c == ',' || c == ' ' {
+        if matches!(c, ';' | ',' | ' ' | '_') {
             words.push(std::mem::take(&mut word));
         }
     }

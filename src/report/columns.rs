@@ -27,6 +27,14 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("dofs", "—", "displacement degrees of freedom"),
     ("steps", "—", "time steps taken"),
     ("contact_iterations", "—", "contact-solver iterations summed over the steps"),
+    ("kind", "—", "`run` (one simulation) or `section` (a report section, its runs included)"),
+    ("task", "—", "a run: its case, space, scheme, parameters, h, dt, steps, dofs and status (`ok` or `error`); a section: its name"),
+    ("start_s", "s", "start of the task since the profile began"),
+    ("end_s", "s", "end of the task since the profile began"),
+    ("wall_s", "s", "wall time of the task"),
+    ("cpu_s", "s", "user + system CPU time of the whole process over the task (the task's own when tasks do not overlap: `RAYON_NUM_THREADS=1`)"),
+    ("thread_cpu_s", "s", "CPU time of the thread that ran the task"),
+    ("rss_mb", "MB", "resident memory of the process at the end of the task"),
     ("wall_time_s", "s", "wall time of the run (assembly, factorisation and time loop); machine-dependent"),
     ("max_rss_mb", "MiB", "peak resident memory of the process when the run ended (`VmHWM`); with runs in parallel, an upper bound of the run's own"),
     ("time_per_step_s", "s", "`wall_time_s / steps`"),
@@ -79,7 +87,7 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("gap", "case (length)", "gap g = g₀ − B_N U at the probe"),
     ("force_contact", "case (force)", "total contact force Σλ (per unit thickness in 2D)"),
     ("approach", "case (length)", "displacement of the centre of mass towards the plane (curved bodies)"),
-    ("momentum", "case (mass·length/time)", "total linear momentum `(M̃1)ᵀV` along the line of impact, with the space's own mass (two-body cases)"),
+    ("momentum", "case (mass·length/time)", "total linear momentum `(M̃1)ᵀV` along the line of impact, with the space's own mass (two free bodies: two_bars, two_discs, two_spheres; not slide_on_block2d, whose block rests on the plane)"),
     ("u_contact_master", "case (length)", "multi-body cases: displacement along the line of impact of the master's contact point facing the probe, `Σ N_k u_k,d` on the master face the probe's slave vertex projects on (the master bar's end in 1D); the master's probe, as `u_contact` is the slave's"),
     ("v_contact_master", "case (length/time)", "multi-body cases: velocity of that point, `Σ N_k v_k,d` (inertial velocity dofs; the H_h vertices for the singular dynamic method)"),
     ("com_velocity_t", "case (length/time)", "velocity of the centre of mass along the first tangent of the plane, `(M̃1)ᵀV / 1ᵀM̃1` with the space's own mass (runs with friction)"),
@@ -155,13 +163,18 @@ fn files() -> Vec<(&'static str, &'static str, Vec<&'static str>)> {
         ),
         (
             "timeseries.csv (dyncontact run)",
-            "one row per sample (every step and t = 0); `approach` for curved bodies, `momentum` for two-body cases, `com_velocity_t` and `friction_work` for runs with friction, `com_velocity_n` and `angular_velocity` for a disc or sphere with friction, the `_exact` columns when the case has an exact solution",
+            "one row per sample (every step and t = 0); `approach` for curved bodies, `momentum` for two free bodies, `com_velocity_t` and `friction_work` for runs with friction, `com_velocity_n` and `angular_velocity` for a disc or sphere with friction, the `_exact` columns when the case has an exact solution",
             timeseries,
         ),
         (
             "summary.csv (dyncontact run)",
             "the run's one row, with its timing columns",
             run::summary_columns(),
+        ),
+        (
+            "report --profile FILE",
+            "one row per simulation and per report section as it ends; machine-dependent",
+            crate::study::profile::COLUMNS.to_vec(),
         ),
     ]
 }

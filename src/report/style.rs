@@ -6,11 +6,13 @@
 
 use crate::output::plot::{Dash, Style, DASHES, MARKERS, PALETTE};
 
-/// The style of the `k`-th entry of a registry, with colours from `PALETTE[offset..]`.
+/// The style of the `k`-th entry of a registry, with colours from `PALETTE[offset..]`; the
+/// marks shift by one at each round of the palette, so that entries `PALETTE.len()` apart
+/// (the same colour) differ in their mark.
 fn nth(k: usize, offset: usize) -> Style {
     Style {
         color: PALETTE[(k + offset) % PALETTE.len()],
-        marker: MARKERS[k % MARKERS.len()],
+        marker: MARKERS[(k + k / PALETTE.len()) % MARKERS.len()],
         dash: Dash::Solid,
         hollow: false,
     }
@@ -92,6 +94,18 @@ mod tests {
         colours.extend(crate::time::SCHEMES.iter().map(|e| scheme(e.name, 0).color));
         let distinct = crate::util::unique(colours.iter().map(|c| (c.0, c.1, c.2)));
         assert_eq!(distinct.len(), colours.len().min(PALETTE.len()));
+        // Within a registry, no two entries share both colour and mark (newmark and
+        // hauret_le_tallec did, PALETTE.len() apart).
+        let looks: Vec<String> = crate::time::SCHEMES
+            .iter()
+            .map(|e| scheme(e.name, 0))
+            .map(|s| format!("{:?} {:?}", (s.color.0, s.color.1, s.color.2), s.marker))
+            .collect();
+        assert_eq!(
+            crate::util::unique(looks.iter()).len(),
+            looks.len(),
+            "{looks:?}"
+        );
         assert_eq!(space("mass_redistribution"), space("mass_redistribution"));
         assert_eq!(scheme("newmark", 1).color, scheme("newmark", 0).color);
         assert_ne!(scheme("newmark", 1).dash, scheme("newmark", 0).dash);

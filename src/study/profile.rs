@@ -7,6 +7,18 @@
 //! includes its runs. Off unless [`start`] was called; the report's outputs do not change.
 
 use crate::error::{Error, Result};
+
+/// The profile's columns (their meanings in `COLUMNS.md`).
+pub const COLUMNS: [&str; 8] = [
+    "kind",
+    "task",
+    "start_s",
+    "end_s",
+    "wall_s",
+    "cpu_s",
+    "thread_cpu_s",
+    "rss_mb",
+];
 use std::io::Write;
 use std::path::Path;
 use std::sync::{Mutex, OnceLock};
@@ -58,11 +70,7 @@ pub fn start(path: &Path, out: &Path) -> Result<()> {
         ));
     }
     let mut file = std::fs::File::create(path).map_err(refuse)?;
-    writeln!(
-        file,
-        "kind,task,start_s,end_s,wall_s,cpu_s,thread_cpu_s,rss_mb"
-    )
-    .map_err(refuse)?;
+    writeln!(file, "{}", COLUMNS.join(",")).map_err(refuse)?;
     // A second start keeps the first profile.
     let _ = PROFILE.set((Mutex::new(file), Instant::now()));
     Ok(())
