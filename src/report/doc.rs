@@ -505,6 +505,10 @@ fn table_html(h: &mut String, header: &[Rich], rows: &[Vec<Cell>]) {
                 .iter()
                 .map(|(text, tone)| match tone.class() {
                     Some(k) => format!("<span class=\"chip {k}\">{}</span>", text.html()),
+                    // One token (a number such as 6.51e-4): not broken at its hyphen.
+                    None if !text.html().contains(' ') => {
+                        format!("<span class=\"n\">{}</span>", text.html())
+                    }
                     None => text.html(),
                 })
                 .collect();
@@ -526,7 +530,7 @@ font-size:0.92em}\
 table{border-collapse:collapse;font-size:0.9em}\
 td,th{border:1px solid #bbb;padding:3px 7px;vertical-align:top}th{background:#f0f0f0}\
 td.good{background:#d7f0dc}td.fair{background:#fff1c2}td.bad{background:#f7d4d4}\
-td.missing{background:#eee;color:#666}\
+td.missing{background:#eee;color:#666}.n{white-space:nowrap}\
 .chip{display:inline-block;padding:0 4px;margin:1px 0;border-radius:3px;white-space:nowrap;\
 font-size:0.95em}\
 .chip.good{background:#cdeccf}.chip.fair{background:#ffe9a8}.chip.bad{background:#f5c6c6}\
