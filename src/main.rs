@@ -350,6 +350,8 @@ fn main_result(cli: Cli) -> Result<()> {
             let path = case;
             let case = cases::load(&path, &overrides)?;
             dyncontact::util::output_dir(&out, "--out")?;
+            // Two runs (or a run and a study) into one directory would mix their files.
+            let _lock = dyncontact::study::lock::Lock::acquire(&out, "journal.csv")?;
             if let Some(dir) = &vtu {
                 dyncontact::util::output_dir(dir, "--vtu")?;
             }

@@ -1652,3 +1652,44 @@ fn a_profile_is_never_a_file_the_report_writes() {
         assert_clear_error(&report(taken), &["--profile", taken, "inside --out"]);
     }
 }
+
+/// Found by a sixth round of hostile inputs: two `run`s into one `--out` at once mixed their
+/// files (one's summary, the other's figures). A run holds the lock a study takes on its
+/// directory: a second run is refused naming the directory, the lock file and the holder.
+#[test]
+fn a_second_run_into_the_same_directory_is_refused_naming_the_lock() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().to_str().unwrap();
+    let long = ["cases/block2d.toml", "--elements", "8", "--dt", "1e-4"];
+    let mut first = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
+        .args(["run", long[0], long[1], long[2], long[3], long[4]])
+        .args(["--t-end", "1000", "--out", o])
+        .env("RAYON_NUM_THREADS", "1")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = dir.path().join("journal.csv.lock");
+    let pid = first.id().to_string();
+    let start = Instant::now();
+    while std::fs::read_to_string(&lock).ok().as_deref() != Some(pid.as_str()) {
+        assert!(first.try_wait().unwrap().is_none(), "the run ended first");
+        assert!(start.elapsed() < Duration::from_secs(60), "no lock file");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let short = ["cases/block2d.toml", "--elements", "2", "--t-end", "0.1"];
+    let second = run(&short, &["--out", o]);
+    first.kill().unwrap();
+    first.wait().unwrap();
+    assert_clear_error(
+        &second,
+        &["journal.csv.lock", o, &format!("(process {pid})")],
+    );
+    assert!(
+        !dir.path().join("summary.csv").exists(),
+        "the second run wrote"
+    );
+    let third = run(&short, &["--out", o]);
+    assert!(third.status.success(), "{}", stderr(&third));
+    assert!(!lock.exists(), "a run that ends removes its lock file");
+}

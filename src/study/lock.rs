@@ -1,5 +1,7 @@
 //! One study at a time per journal: `report` and `sweep` hold `<journal>.lock` beside their
-//! journal (`OUT/journal.csv.lock`; a shard's own journal has its own lock) while they run.
+//! journal (`OUT/journal.csv.lock`; a shard's own journal has its own lock) while they run, and
+//! `run` holds `OUT/journal.csv.lock` while it runs and writes (two runs into one directory
+//! would mix their files: one's summary, the other's figures).
 //! A second study into the same directory would empty the journal (or, with `--resume`, append
 //! the same runs again) and redo every run; it is refused, naming the holder's process id.
 //!
@@ -45,7 +47,7 @@ impl Lock {
                 return Err(io(std::io::Error::new(
                     std::io::ErrorKind::WouldBlock,
                     format!(
-                        "held by another report or sweep into {} (process {}): wait for it to \
+                        "held by another run, report or sweep into {} (process {}): wait for it to \
                          end, or write into another directory",
                         dir.display(),
                         holder.trim()
