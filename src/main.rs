@@ -349,6 +349,7 @@ fn main_result(cli: Cli) -> Result<()> {
             };
             let path = case;
             let case = cases::load(&path, &overrides)?;
+            case.run().refuse_unused_flags(&overrides.options)?;
             dyncontact::util::output_dir(&out, "--out")?;
             // Two runs (or a run and a study) into one directory would mix their files.
             let _lock = dyncontact::study::lock::Lock::acquire(&out, "journal.csv")?;

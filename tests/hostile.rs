@@ -1693,3 +1693,130 @@ fn a_second_run_into_the_same_directory_is_refused_naming_the_lock() {
     assert!(third.status.success(), "{}", stderr(&third));
     assert!(!lock.exists(), "a run that ends removes its lock file");
 }
+
+/// Found by a sixth round of hostile inputs: beside a case file's own `[mesh] file`, the fields
+/// only a generated mesh uses were silently ignored (a degree 2 ran degree 1). Each is refused
+/// naming the field, the mesh file and the case file; the fields the case still reads from a
+/// file's body (a Hertz case's shape and radius) are kept.
+#[test]
+fn generator_fields_beside_a_mesh_file_are_refused_naming_field_and_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let msh = std::fs::canonicalize("cases/meshes/disc.msh").unwrap();
+    let base = |case: &str, geometry: &str, extra: &str| {
+        format!(
+            "case = \"{case}\"\nunits = \"x\"\n[material]\nyoung = 1.0\npoisson = 0.3\n\
+             density = 1.0\n[geometry]\nvelocity = -0.01\n{geometry}\n[mesh]\nfile = {:?}\n\
+             {extra}\n[run]\nspace = \"mass_redistribution\"\nscheme = \"newmark\"\n\
+             dt = 0.02\nt_end = 0.1\n",
+            msh.display()
+        )
+    };
+    let o = dir.path().join("o");
+    for (geometry, extra, field) in [
+        ("", "cells = \"triangle\"", "mesh.cells"),
+        ("", "degree = 2", "mesh.degree"),
+        ("", "elements = 12", "mesh.elements"),
+        ("", "grading = 4.0", "mesh.grading"),
+        ("", "[contact]\nfacing = 0.5", "contact.facing"),
+        ("size = [5.0, 5.0]", "", "geometry.size"),
+        ("shape = \"disc\"", "", "geometry.shape"),
+        ("radius = 3.0", "", "geometry.radius"),
+    ] {
+        let path = dir.path().join("beside.toml");
+        std::fs::write(&path, base("block2d", geometry, extra)).unwrap();
+        let out = run(&[path.to_str().unwrap()], &["--out", o.to_str().unwrap()]);
+        assert_clear_error(
+            &out,
+            &[
+                &format!("`{field}`"),
+                "beside.toml",
+                "disc.msh",
+                "mesh.file",
+            ],
+        );
+    }
+    // A Hertz case reads its shape and radius with a file: the reference's radius.
+    let path = dir.path().join("hertz.toml");
+    std::fs::write(&path, base("hertz2d", "shape = \"disc\"\nradius = 1.0", "")).unwrap();
+    let out = run(&[path.to_str().unwrap()], &["--out", o.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
+/// Found by a sixth round of hostile inputs: a sweep refining by `elements` a case whose mesh
+/// is a file ran every level and failed each on a flag nobody gave (`--elements`). It is
+/// refused before any run, naming the sweep's field, the mesh file and the case file.
+#[test]
+fn a_sweep_refining_the_elements_of_a_mesh_file_case_is_refused_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let msh = std::fs::canonicalize("cases/meshes/disc.msh").unwrap();
+    let text = format!(
+        "case = \"hertz2d\"\nunits = \"x\"\n[material]\nyoung = 1.0\npoisson = 0.3\n\
+         density = 1.0\n[geometry]\nshape = \"disc\"\nradius = 1.0\nvelocity = -0.01\n\
+         [mesh]\nfile = {:?}\n[run]\nspace = \"mass_redistribution\"\nscheme = \"newmark\"\n\
+         dt = 0.02\nt_end = 0.1\n[[sweep]]\nname = \"hertz\"\nspaces = [\"standard\"]\n\
+         schemes = [{{ scheme = \"newmark\", beta = 0.5, gamma = 0.5 }}]\nelements = 12\n\
+         dt = 0.02\nt_end = 0.08\nratio = 2\nlevels = 3\nquick_levels = 1\n",
+        msh.display()
+    );
+    let path = dir.path().join("h2sweep.toml");
+    std::fs::write(&path, text).unwrap();
+    let o = dir.path().join("o");
+    let out = dyncontact(&[
+        "sweep",
+        path.to_str().unwrap(),
+        "--quick",
+        "--out",
+        o.to_str().unwrap(),
+    ]);
+    assert_clear_error(
+        &out,
+        &["`sweep.hertz.elements`", "h2sweep.toml", "disc.msh"],
+    );
+    assert!(!o.join("records.csv").exists(), "the sweep ran");
+}
+
+/// Found by a sixth round of hostile inputs: a solver option with no effect on the run was
+/// refused at a non-default value and silently accepted at its default. Given on the command
+/// line, it is refused whatever its value, naming the flag.
+#[test]
+fn a_solver_flag_without_effect_is_refused_at_its_default_value_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    for (args, flag) in [
+        (
+            &["--space", "lumped", "--scheme", "taylor_flanagan"][..],
+            ["--contact-solver", "active_set"],
+        ),
+        (
+            &["--contact", "nitsche"][..],
+            ["--contact-solver", "active_set"],
+        ),
+        (
+            &["--space", "lumped", "--scheme", "explicit_penalty"][..],
+            ["--linear-solver", "direct"],
+        ),
+        (
+            &["--space", "lumped", "--scheme", "explicit_penalty"][..],
+            ["--linear-solver", "auto"],
+        ),
+    ] {
+        let out = run(
+            &[&["cases/bar1d.toml"], args, &flag, &["--t-end", "1"]].concat(),
+            &["--out", o],
+        );
+        assert_clear_error(&out, &[&format!("`{}`", flag[0]), flag[1], "no effect"]);
+    }
+    // Where the option is used, its default is accepted.
+    let out = run(
+        &[
+            "cases/bar1d.toml",
+            "--contact-solver",
+            "active_set",
+            "--t-end",
+            "1",
+        ],
+        &["--out", o],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+}

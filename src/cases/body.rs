@@ -401,6 +401,62 @@ pub(super) fn refuse_generated(o: &Overrides, file: &str) -> Result<()> {
     }
 }
 
+/// Refuses the fields of a case file that only a generated mesh uses, beside its own `[mesh]
+/// file` (which fixes the cells, their shape, degree and Γ_C): `mesh.cells`, `mesh.degree`,
+/// `mesh.elements`, `mesh.grading`, `contact.facing`, `geometry.size`; and `geometry.shape` and
+/// `geometry.radius` unless the case reads them from the file's body too (the Hertz reference's
+/// radius of `hertz2d`/`hertz3d`, the shape `oblique3d` checks, the rolling spin of a round body
+/// with friction). `kind` is the case, `friction` its μ.
+fn refuse_beside_file(spec: &BodySpec, kind: &str, friction: f64) -> Result<()> {
+    let Some(file) = &spec.mesh.file else {
+        return Ok(());
+    };
+    let (g, m) = (&spec.geometry, &spec.mesh);
+    let hertz = kind.starts_with("hertz");
+    let shape_read = hertz || kind == "oblique3d" || friction > 0.0;
+    let radius_read = hertz || (friction > 0.0 && g.shape != "box");
+    let set = [
+        ("mesh.cells", (!m.cells.is_empty()).then(|| m.cells.clone())),
+        (
+            "mesh.degree",
+            (m.degree != default_degree()).then(|| m.degree.to_string()),
+        ),
+        (
+            "mesh.elements",
+            (m.elements != 0).then(|| m.elements.to_string()),
+        ),
+        (
+            "mesh.grading",
+            (m.grading != default_grading()).then(|| m.grading.to_string()),
+        ),
+        ("contact.facing", spec.contact.facing.map(|t| t.to_string())),
+        (
+            "geometry.size",
+            (!g.size.is_empty()).then(|| format!("{:?}", g.size)),
+        ),
+        (
+            "geometry.shape",
+            (!shape_read && g.shape != default_shape()).then(|| g.shape.clone()),
+        ),
+        (
+            "geometry.radius",
+            g.radius.filter(|_| !radius_read).map(|r| r.to_string()),
+        ),
+    ];
+    match set.into_iter().find_map(|(f, v)| Some((f, v?))) {
+        Some((field, value)) => Err(Error::invalid(
+            field,
+            value,
+            &format!(
+                "applies to a generated mesh, and this case's mesh is the file {} (mesh.file): \
+                 remove the field, or mesh.file",
+                file.display()
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Fields the generated shape would not use, refused by name: a box's radius or grading, a
 /// disc's or sphere's size.
 fn unused_by_shape(g: &Geometry, m: &MeshSpec) -> Result<()> {
@@ -597,6 +653,7 @@ impl Body {
                  geometry.radius",
             ));
         }
+        refuse_beside_file(&spec, kind, friction)?;
         let (mesh, rule) = match mesh {
             Some(mesh) => {
                 refuse_generated(o, &mesh.origin)?;

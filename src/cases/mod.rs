@@ -254,9 +254,7 @@ impl RunSpec {
         self.options.params.validate("run")?;
         self.check_applicable()?;
         crate::space::by_name(&self.space)?;
-        let scheme =
-            crate::time::by_name(&self.scheme, self.params()).map_err(|e| e.in_table("run"))?;
-        let formulation = crate::contact::formulation(&self.options)?;
+        let own = self.own_law()?;
         if let (Some(m), false) = (
             &self.options.contact_multiplier,
             self.options.contact() == "weak",
@@ -267,17 +265,6 @@ impl RunSpec {
                 "applies to contact = \"weak\" only",
             ));
         }
-        // A formulation that solves its own law per step (Nitsche's semismooth Newton) or a
-        // scheme that applies its own (a penalty, a velocity correction) would silently ignore
-        // another LCP solver.
-        let own = match (formulation.takes_solver(), scheme.own_law()) {
-            (false, _) => Some(format!(
-                "contact = \"{}\" solves its own law per step",
-                formulation.name()
-            )),
-            (true, Some(law)) => Some(format!("scheme {} applies {law}", scheme.name())),
-            (true, None) => None,
-        };
         let default = crate::contact::DEFAULT_SOLVER;
         if let (Some(why), true) = (own, self.options.contact_solver() != default) {
             return Err(Error::invalid(
@@ -288,6 +275,50 @@ impl RunSpec {
         }
         crate::contact::by_name(self.options.contact_solver(), 0)?;
         crate::time::LinearSolver::by_name(self.options.linear_solver())?;
+        Ok(())
+    }
+
+    /// Why the contact solver has no effect on this run, if so: a formulation that solves its
+    /// own law per step (Nitsche's semismooth Newton) or a scheme that applies its own (a
+    /// penalty, a velocity correction) would silently ignore an LCP solver.
+    fn own_law(&self) -> Result<Option<String>> {
+        let scheme =
+            crate::time::by_name(&self.scheme, self.params()).map_err(|e| e.in_table("run"))?;
+        let formulation = crate::contact::formulation(&self.options)?;
+        Ok(match (formulation.takes_solver(), scheme.own_law()) {
+            (false, _) => Some(format!(
+                "contact = \"{}\" solves its own law per step",
+                formulation.name()
+            )),
+            (true, Some(law)) => Some(format!("scheme {} applies {law}", scheme.name())),
+            (true, None) => None,
+        })
+    }
+
+    /// Refuses a solver given on the command line (`given`: the flags' options) that this run
+    /// would not use, whatever its value, the default included: `--contact-solver` where the
+    /// formulation or the scheme solves its own law, `--linear-solver` with a scheme that
+    /// solves no linear system.
+    pub fn refuse_unused_flags(&self, given: &Options) -> Result<()> {
+        if let (Some(solver), Some(why)) = (&given.contact_solver, self.own_law()?) {
+            return Err(Error::invalid(
+                "--contact-solver",
+                solver,
+                &format!("{why}, not through an LCP solver: the option would have no effect"),
+            ));
+        }
+        let scheme = crate::time::by_name(&self.scheme, self.params())?;
+        if let (Some(solver), false) = (&given.linear_solver, scheme.solves_linear_system()) {
+            return Err(Error::invalid(
+                "--linear-solver",
+                solver,
+                &format!(
+                    "scheme {} solves no linear system (lumped mass, explicit steps): the option \
+                     would have no effect",
+                    scheme.name()
+                ),
+            ));
+        }
         Ok(())
     }
 
@@ -713,6 +744,16 @@ impl CaseFile {
             .find_map(|(f, v)| Some((f, v?)))
         {
             return Err(Error::invalid(flag, value, why));
+        }
+        // A mesh file (the case's own or --mesh) fixes the cells: a sweep's `elements` or
+        // `degree` is refused here, before any run, named as the sweep's field.
+        let file = match &self.spec {
+            Spec::Body(s) => s.mesh.file.as_ref(),
+            Spec::TwoBodies(s) => s.mesh.file.as_ref(),
+            _ => None,
+        };
+        if let Some(file) = o.mesh.as_ref().or(file) {
+            body::refuse_generated(o, &file.display().to_string())?;
         }
         Ok(())
     }

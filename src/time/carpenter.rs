@@ -80,6 +80,10 @@ impl Scheme for Carpenter {
         Enforcement::Explicit
     }
 
+    fn solves_linear_system(&self) -> bool {
+        false
+    }
+
     fn prepare<'p>(
         &self,
         problem: &'p Problem,

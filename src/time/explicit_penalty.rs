@@ -101,6 +101,10 @@ impl Scheme for ExplicitPenalty {
         Enforcement::Penalty
     }
 
+    fn solves_linear_system(&self) -> bool {
+        false
+    }
+
     fn own_law(&self) -> Option<&'static str> {
         Some("its penalty force κ (−g)₊")
     }

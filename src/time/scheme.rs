@@ -64,6 +64,11 @@ pub trait Scheme: std::fmt::Debug + Send + Sync {
     fn own_law(&self) -> Option<&'static str> {
         None
     }
+    /// False for a scheme that solves no linear system (a lumped mass stepped explicitly):
+    /// `--linear-solver` would be ignored and is refused.
+    fn solves_linear_system(&self) -> bool {
+        true
+    }
     /// Assembles and factors once; the returned integrator starts from `(U₀, V₀)`.
     fn prepare<'p>(
         &self,

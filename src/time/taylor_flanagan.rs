@@ -70,6 +70,10 @@ impl Scheme for TaylorFlanagan {
         Enforcement::Explicit
     }
 
+    fn solves_linear_system(&self) -> bool {
+        false
+    }
+
     fn own_law(&self) -> Option<&'static str> {
         Some("its velocity correction, point by point")
     }
