@@ -1820,3 +1820,29 @@ fn a_solver_flag_without_effect_is_refused_at_its_default_value_too() {
     );
     assert!(out.status.success(), "{}", stderr(&out));
 }
+
+/// Found by a sixth round of hostile inputs: `--nitsche-theta -1 --nitsche-gamma 1e-300` blamed
+/// "θ > 0" for a failed factorisation on block2d and gave only "energy is NaN" on bar1d. A γ₀
+/// whose term γ σ_n σ_n outweighs the stiffness beyond round-off is refused before stepping,
+/// whatever θ, naming the flag.
+#[test]
+fn a_nitsche_gamma_that_swamps_the_stiffness_is_refused_whatever_theta() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    for case in [
+        &["cases/block2d.toml", "--elements", "2"][..],
+        &["cases/bar1d.toml"],
+    ] {
+        for theta in ["-1", "0", "1"] {
+            let nitsche = ["--contact", "nitsche", "--nitsche-theta", theta];
+            let tail = ["--nitsche-gamma", "1e-300", "--t-end", "0.5", "--out", o];
+            let out = run(&[case, &nitsche[..]].concat(), &tail);
+            assert_clear_error(
+                &out,
+                &["--nitsche-gamma", "1e-300", "singular to round-off"],
+            );
+            assert!(!stderr(&out).contains("θ > 0"), "{}", stderr(&out));
+        }
+    }
+}

@@ -154,11 +154,21 @@ impl Formulation for Nitsche {
     /// indefinite when γ₀ is too small.
     fn explain(&self, error: Error) -> Error {
         match error {
-            Error::Factorisation { matrix, reason } => Error::Factorisation {
+            Error::Factorisation { matrix, reason } if self.theta > 0.0 => Error::Factorisation {
                 matrix,
                 reason: format!(
                     "{reason}; with nitsche contact and θ > 0 the term −θ ∫ γ σ_n(u) σ_n(v) makes \
                      the stiffness indefinite when γ₀ is too small: increase run.nitsche_gamma"
+                ),
+            },
+            // θ ≤ 0: the term is positive semi-definite (zero at θ = 0), not the cause.
+            Error::Factorisation { matrix, reason } => Error::Factorisation {
+                matrix,
+                reason: format!(
+                    "{reason}; with nitsche contact and θ = {} ≤ 0 the term −θ ∫ γ σ_n(u) \
+                     σ_n(v) adds no indefinite part (run.nitsche_gamma = {:e} is not the cause \
+                     unless it makes γ = h/(γ₀ E) swamp the stiffness)",
+                    self.theta, self.gamma0
                 ),
             },
             e => e,
@@ -183,6 +193,9 @@ impl Formulation for Nitsche {
         k.add_scaled(0, 0, 1.0, &problem.k);
         let mut tangential = self.tangential(problem, &points)?;
         let (mut compliance, mut energy) = (Vec::new(), Vec::new());
+        // The largest entry of the stiffness and of the Nitsche term `w γ S_iᵀ S_i` (θ aside).
+        let stiff = problem.k.val().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let mut term = 0.0_f64;
         for (i, p) in points.iter().enumerate() {
             let (w, gamma) = (p.weight, p.h_over_e / self.gamma0);
             if !gamma.is_normal() || !(1.0 / gamma).is_finite() {
@@ -208,6 +221,8 @@ impl Formulation for Nitsche {
                 s.extend(p.sigma_t.iter().cloned());
             }
             for row in &s {
+                let top = row.iter().fold(0.0_f64, |m, v| m.max(v.1.abs()));
+                term = term.max(w * gamma * top * top);
                 for &(a, sa) in row {
                     for &(b, sb) in row {
                         k.add(a, b, -self.theta * w * gamma * sa * sb);
@@ -235,6 +250,7 @@ impl Formulation for Nitsche {
                 ),
             ));
         }
+        check_scale(self.gamma0, term, stiff)?;
         let contact = &mut problem.contact;
         contact.b_n = gap.build()?;
         contact.g0 = points.iter().map(|p| p.g0).collect();
@@ -264,6 +280,26 @@ impl Formulation for Nitsche {
             _ => Ok(Box::new(NitscheLaw { compliance })),
         }
     }
+}
+
+/// Refuses a γ₀ whose Nitsche term (largest entry `term`, of `w γ σ σ`, γ = h/(γ₀ E)) is not
+/// finite or outweighs the stiffness (largest entry `stiff`) beyond round-off (1/ε): the step
+/// matrix would be the term alone to round-off, singular, whatever θ.
+fn check_scale(gamma0: f64, term: f64, stiff: f64) -> Result<()> {
+    let ratio = term / stiff;
+    if stiff > 0.0 && !(ratio <= 1.0 / f64::EPSILON) {
+        return Err(Error::invalid(
+            "run.nitsche_gamma (--nitsche-gamma)",
+            gamma0,
+            &format!(
+                "makes the term θ ∫ γ σ_n(u) σ_n(v), γ = h/(γ₀ E), {ratio:e} times the stiffness \
+                 (at most 1/ε = {:e}): the step matrix would be singular to round-off; increase \
+                 γ₀",
+                1.0 / f64::EPSILON
+            ),
+        ));
+    }
+    Ok(())
 }
 
 impl Nitsche {
