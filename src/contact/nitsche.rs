@@ -287,7 +287,7 @@ impl Formulation for Nitsche {
 /// matrix would be the term alone to round-off, singular, whatever θ.
 fn check_scale(gamma0: f64, term: f64, stiff: f64) -> Result<()> {
     let ratio = term / stiff;
-    if stiff > 0.0 && !(ratio <= 1.0 / f64::EPSILON) {
+    if stiff > 0.0 && (ratio.is_nan() || ratio > 1.0 / f64::EPSILON) {
         return Err(Error::invalid(
             "run.nitsche_gamma (--nitsche-gamma)",
             gamma0,
