@@ -1267,24 +1267,8 @@ fn options_the_run_would_ignore_are_refused_naming_the_flag_or_field() {
 fn a_second_study_into_the_same_directory_is_refused_naming_the_first() {
     let dir = tempfile::tempdir().unwrap();
     let o = dir.path().to_str().unwrap();
-    let mut first = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
-        .args(["report", "--quick", "--out", o])
-        .env("RAYON_NUM_THREADS", "1")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let (mut first, pid) = holding_the_lock(&["report", "--quick", "--out", o], dir.path());
     let lock = dir.path().join("journal.csv.lock");
-    let pid = first.id().to_string();
-    let start = Instant::now();
-    while std::fs::read_to_string(&lock).ok().as_deref() != Some(pid.as_str()) {
-        assert!(
-            first.try_wait().unwrap().is_none(),
-            "the report ended first"
-        );
-        assert!(start.elapsed() < Duration::from_secs(60), "no lock file");
-        std::thread::sleep(Duration::from_millis(20));
-    }
     let second = dyncontact(&["sweep", "cases/spring_mass.toml", "--quick", "--out", o]);
     first.kill().unwrap();
     first.wait().unwrap();
@@ -1653,6 +1637,27 @@ fn a_profile_is_never_a_file_the_report_writes() {
     }
 }
 
+/// Starts the binary with `args` (one worker thread) and waits until it holds the lock of
+/// `dir` (`journal.csv.lock` holding its process id); returns it and its id.
+fn holding_the_lock(args: &[&str], dir: &Path) -> (std::process::Child, String) {
+    let mut first = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
+        .args(args)
+        .env("RAYON_NUM_THREADS", "1")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = dir.join("journal.csv.lock");
+    let pid = first.id().to_string();
+    let start = Instant::now();
+    while std::fs::read_to_string(&lock).ok().as_deref() != Some(pid.as_str()) {
+        assert!(first.try_wait().unwrap().is_none(), "the first ended first");
+        assert!(start.elapsed() < Duration::from_secs(60), "no lock file");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    (first, pid)
+}
+
 /// Found by a sixth round of hostile inputs: two `run`s into one `--out` at once mixed their
 /// files (one's summary, the other's figures). A run holds the lock a study takes on its
 /// directory: a second run is refused naming the directory, the lock file and the holder.
@@ -1660,23 +1665,19 @@ fn a_profile_is_never_a_file_the_report_writes() {
 fn a_second_run_into_the_same_directory_is_refused_naming_the_lock() {
     let dir = tempfile::tempdir().unwrap();
     let o = dir.path().to_str().unwrap();
-    let long = ["cases/block2d.toml", "--elements", "8", "--dt", "1e-4"];
-    let mut first = Command::new(env!("CARGO_BIN_EXE_dyncontact"))
-        .args(["run", long[0], long[1], long[2], long[3], long[4]])
-        .args(["--t-end", "1000", "--out", o])
-        .env("RAYON_NUM_THREADS", "1")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let long = [
+        "run",
+        "cases/block2d.toml",
+        "--elements",
+        "8",
+        "--dt",
+        "1e-4",
+    ];
+    let (mut first, pid) = holding_the_lock(
+        &[&long[..], &["--t-end", "1000", "--out", o]].concat(),
+        dir.path(),
+    );
     let lock = dir.path().join("journal.csv.lock");
-    let pid = first.id().to_string();
-    let start = Instant::now();
-    while std::fs::read_to_string(&lock).ok().as_deref() != Some(pid.as_str()) {
-        assert!(first.try_wait().unwrap().is_none(), "the run ended first");
-        assert!(start.elapsed() < Duration::from_secs(60), "no lock file");
-        std::thread::sleep(Duration::from_millis(20));
-    }
     let short = ["cases/block2d.toml", "--elements", "2", "--t-end", "0.1"];
     let second = run(&short, &["--out", o]);
     first.kill().unwrap();
@@ -1775,14 +1776,20 @@ fn a_sweep_refining_the_elements_of_a_mesh_file_case_is_refused_up_front() {
     assert!(!o.join("records.csv").exists(), "the sweep ran");
 }
 
+/// A temporary directory and its `o`, an output directory inside it.
+fn temp_out() -> (tempfile::TempDir, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o").to_str().unwrap().to_string();
+    (dir, o)
+}
+
 /// Found by a sixth round of hostile inputs: a solver option with no effect on the run was
 /// refused at a non-default value and silently accepted at its default. Given on the command
 /// line, it is refused whatever its value, naming the flag.
 #[test]
 fn a_solver_flag_without_effect_is_refused_at_its_default_value_too() {
-    let dir = tempfile::tempdir().unwrap();
-    let o = dir.path().join("o");
-    let o = o.to_str().unwrap();
+    let (_dir, o) = temp_out();
+    let o = o.as_str();
     for (args, flag) in [
         (
             &["--space", "lumped", "--scheme", "taylor_flanagan"][..],
@@ -1827,9 +1834,8 @@ fn a_solver_flag_without_effect_is_refused_at_its_default_value_too() {
 /// whatever θ, naming the flag.
 #[test]
 fn a_nitsche_gamma_that_swamps_the_stiffness_is_refused_whatever_theta() {
-    let dir = tempfile::tempdir().unwrap();
-    let o = dir.path().join("o");
-    let o = o.to_str().unwrap();
+    let (_dir, o) = temp_out();
+    let o = o.as_str();
     for case in [
         &["cases/block2d.toml", "--elements", "2"][..],
         &["cases/bar1d.toml"],
