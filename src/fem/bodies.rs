@@ -40,7 +40,7 @@
 //! pairing, normals and tangents stay those of the reference configuration.
 
 use crate::error::{Error, Result};
-use crate::fem::discretisation::{Discretisation, Initial};
+use crate::fem::discretisation::{Discretisation, Initial, PENETRATION_TOLERANCE};
 use crate::fem::mass_model::{ElementMass, ElementMixed, MassModel, VelocitySpace};
 use crate::linalg::{SpMat, TripletBuilder};
 use crate::problem::{Contact, ContactFace, Friction, Inertia, Probe, Problem};
@@ -308,7 +308,31 @@ impl Bodies {
                 message: "no vertex of the slave's Γ_C projects on the master's Γ_C".into(),
             });
         }
+        self.refuse_penetration((slave, master), &out)?;
         Ok(out)
+    }
+
+    /// Refuses an initial penetration of a slave vertex into the master deeper than
+    /// [`PENETRATION_TOLERANCE`] · h (overlapping bodies, or bodies given in the wrong order).
+    fn refuse_penetration(&self, (slave, master): (usize, usize), pairs: &[Pairing]) -> Result<()> {
+        let s = &self.parts[slave];
+        let tol = PENETRATION_TOLERANCE * s.mesh.h.min(self.parts[master].mesh.h);
+        let Some(p) = pairs.iter().find(|p| p.g0 < -tol) else {
+            return Ok(());
+        };
+        let i = s.contact_vertices[p.slave].0;
+        Err(Error::Mesh {
+            origin: s.mesh.origin.clone(),
+            message: format!(
+                "body {} {} at {:?} penetrates body {}'s contact face by {:.3e} at t = 0 \
+                 (overlapping bodies, or body 1 given below body 2)",
+                slave + 1,
+                s.mesh.node_name(i),
+                s.mesh.nodes[i],
+                master + 1,
+                -p.g0
+            ),
+        })
     }
 
     /// The force of each contact row of [`Bodies::interface`]`(0, 1)` carried to each body's Γ_C
