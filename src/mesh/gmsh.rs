@@ -12,8 +12,8 @@
 //!   of the entities of its physical group of dimension d (`body1`, `body2`) with its own Γ_C
 //!   group (`contact1`, `contact2`), and its own nodes (the meshes need not match across the
 //!   interface).
-//! - Nodes used by no cell (geometry points) are dropped. Node tags are taken in file order from
-//!   the smallest tag when they are dense (Gmsh's numbering), else from the tags themselves.
+//! - Nodes used by no cell (geometry points) are dropped. Node tags are read as the file lists
+//!   them, in any order; a tag listed twice is refused.
 //!
 //! Every failure names the file and the entity at fault.
 
@@ -66,7 +66,7 @@ impl File {
         check_version(&bytes).map_err(&err)?;
         let msh = mshio::parse_msh_bytes(bytes.as_slice())
             .map_err(|e| err(format!("not a readable MSH 4.1 file: {e}")))?;
-        let (coords, tag_index, node_tags) = nodes(&msh.data).map_err(&err)?;
+        let (coords, tag_index, node_tags) = nodes(&msh.data, &bytes).map_err(&err)?;
         let elements = msh
             .data
             .elements
@@ -306,39 +306,106 @@ fn check_version(bytes: &[u8]) -> std::result::Result<(), String> {
 }
 
 /// Node coordinates in file order, the map from a node tag to its index, and the tag of each
-/// index.
+/// index. The tags are read from the file itself (`mshio` keeps them only when they are
+/// sparse, and then in a map that hides a repeated tag): the t-th coordinates are node t only
+/// when the file lists the tags in that order.
 #[allow(clippy::type_complexity)]
 fn nodes(
     data: &mshio::MshData<u64, i32, f64>,
+    bytes: &[u8],
 ) -> std::result::Result<(Vec<[f64; 3]>, Box<dyn Fn(u64) -> Option<usize>>, Vec<u64>), String> {
     let n = data.nodes.as_ref().ok_or("no $Nodes section")?;
-    let mut coords = Vec::new();
-    let mut sparse: HashMap<u64, usize> = HashMap::new();
-    let dense = n.node_blocks.iter().all(|b| b.node_tags.is_none());
-    for b in &n.node_blocks {
-        if let Some(tags) = &b.node_tags {
-            for (&t, &i) in tags {
-                sparse.insert(t, coords.len() + i);
+    let coords: Vec<[f64; 3]> = n
+        .node_blocks
+        .iter()
+        .flat_map(|b| b.nodes.iter().map(|p| [p.x, p.y, p.z]))
+        .collect();
+    let tags = node_tags(bytes)?;
+    if tags.len() != coords.len() {
+        return Err(format!(
+            "the $Nodes section lists {} node tags for {} nodes",
+            tags.len(),
+            coords.len()
+        ));
+    }
+    let mut index: HashMap<u64, usize> = HashMap::with_capacity(tags.len());
+    for (i, &t) in tags.iter().enumerate() {
+        if index.insert(t, i).is_some() {
+            return Err(format!("node tag {t} appears twice in the $Nodes section"));
+        }
+    }
+    let lookup: Box<dyn Fn(u64) -> Option<usize>> = Box::new(move |t| index.get(&t).copied());
+    Ok((coords, lookup, tags))
+}
+
+/// The node tags of the `$Nodes` section in file order (ASCII or binary MSH 4.1).
+fn node_tags(bytes: &[u8]) -> std::result::Result<Vec<u64>, String> {
+    let find = |needle: &[u8]| bytes.windows(needle.len()).position(|w| w == needle);
+    let head = find(b"$MeshFormat").ok_or("no $MeshFormat header")?;
+    let format: Vec<String> = String::from_utf8_lossy(&bytes[head..bytes.len().min(head + 100)])
+        .split_whitespace()
+        .skip(1)
+        .take(3)
+        .map(str::to_string)
+        .collect();
+    let binary = format.get(1).map(String::as_str) == Some("1");
+    let size: usize = format.get(2).and_then(|s| s.parse().ok()).unwrap_or(8);
+    let start = find(b"$Nodes").ok_or("no $Nodes section")? + b"$Nodes".len();
+    let body = &bytes[start..];
+    let bad = || "a truncated or malformed $Nodes section".to_string();
+    let mut tags = Vec::new();
+    if binary {
+        // After the line break: size_t numEntityBlocks numNodes min max, then per block int
+        // dim, tag, parametric, size_t n, n size_t tags, 3n doubles.
+        let mut at = body.iter().position(|&b| b == b'\n').ok_or_else(bad)? + 1;
+        let mut read = |width: usize| -> std::result::Result<u64, String> {
+            let chunk = body.get(at..at + width).ok_or_else(bad)?;
+            at += width;
+            let mut v = [0u8; 8];
+            v[..width.min(8)].copy_from_slice(&chunk[..width.min(8)]);
+            Ok(u64::from_le_bytes(v))
+        };
+        let blocks = read(size)?;
+        for _ in 0..3 {
+            read(size)?;
+        }
+        for _ in 0..blocks {
+            for _ in 0..3 {
+                read(4)?;
+            }
+            let n = read(size)?;
+            for _ in 0..n {
+                tags.push(read(size)?);
+            }
+            for _ in 0..3 * n {
+                read(8)?;
             }
         }
-        coords.extend(b.nodes.iter().map(|p| [p.x, p.y, p.z]));
-    }
-    let (min, len) = (n.min_node_tag, coords.len());
-    let tags: Vec<u64> = if dense {
-        (0..len as u64).map(|i| min + i).collect()
     } else {
-        let mut tags = vec![0; len];
-        for (&t, &i) in &sparse {
-            tags[i] = t;
+        let end = body
+            .windows(b"$EndNodes".len())
+            .position(|w| w == b"$EndNodes")
+            .unwrap_or(body.len());
+        let text = String::from_utf8_lossy(&body[..end]);
+        let tokens: Vec<&str> = text.split_whitespace().collect();
+        let mut at = 0;
+        let mut next = |skip: usize| -> std::result::Result<u64, String> {
+            at += skip;
+            let t = tokens.get(at).ok_or_else(bad)?;
+            at += 1;
+            t.parse().map_err(|_| bad())
+        };
+        let blocks = next(0)?;
+        let mut skip = 3;
+        for _ in 0..blocks {
+            let n = next(skip + 3)?;
+            for _ in 0..n {
+                tags.push(next(0)?);
+            }
+            skip = 3 * n as usize;
         }
-        tags
-    };
-    let lookup: Box<dyn Fn(u64) -> Option<usize>> = if dense {
-        Box::new(move |t| t.checked_sub(min).map(|i| i as usize).filter(|&i| i < len))
-    } else {
-        Box::new(move |t| sparse.get(&t).copied())
-    };
-    Ok((coords, lookup, tags))
+    }
+    Ok(tags)
 }
 
 /// The reference element of a Gmsh cell type in dimension `dim`.
@@ -408,13 +475,15 @@ fn physical_names(bytes: &[u8]) -> Vec<(usize, i32, String)> {
     text[start..]
         .lines()
         .skip(2)
-        .take_while(|l| !l.starts_with("$EndPhysicalNames"))
+        .take_while(|l| !l.trim_start().starts_with("$EndPhysicalNames"))
         .filter_map(|l| {
-            let mut it = l.splitn(3, ' ');
-            let d = it.next()?.trim().parse().ok()?;
-            let t = it.next()?.trim().parse().ok()?;
-            let n = it.next()?.trim().trim_matches('"').to_string();
-            Some((d, t, n))
+            // Fields separated by any whitespace (Gmsh reads spaces, tabs, a leading space);
+            // the quoted name may itself hold spaces.
+            let l = l.trim_start();
+            let (d, rest) = l.split_once(char::is_whitespace)?;
+            let (t, n) = rest.trim_start().split_once(char::is_whitespace)?;
+            let n = n.trim().trim_matches('"').to_string();
+            Some((d.parse().ok()?, t.parse().ok()?, n))
         })
         .collect()
 }
@@ -446,5 +515,125 @@ fn entities(data: &mshio::MshData<u64, i32, f64>, dim: usize, ptag: i32) -> Vec<
             .iter()
             .filter_map(|v| pick(v.tag, &v.physical_tags))
             .collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 2D MSH 4.1 file: `nodes` (tag, x, y) in the order given, the cells of `cell_type`
+    /// (Gmsh's type number) on surface 1 (group `body`), the edges of `edge_type` on curve 1
+    /// (group `contact`), the `$PhysicalNames` lines `names` as written.
+    pub(crate) fn msh(
+        names: &str,
+        nodes: &[(u64, f64, f64)],
+        (cell_type, cells): (u32, &[&[u64]]),
+        (edge_type, edges): (u32, &[&[u64]]),
+    ) -> String {
+        let (min, max) = (
+            nodes.iter().map(|n| n.0).min().unwrap(),
+            nodes.iter().map(|n| n.0).max().unwrap(),
+        );
+        let mut s = format!(
+            "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n{names}\n\
+             $EndPhysicalNames\n$Entities\n0 1 1 0\n1 0 0 0 1 0 0 1 1 0\n\
+             1 0 0 0 1 1 0 1 2 0\n$EndEntities\n$Nodes\n1 {} {min} {max}\n2 1 0 {}\n",
+            nodes.len(),
+            nodes.len()
+        );
+        for n in nodes {
+            s += &format!("{}\n", n.0);
+        }
+        for n in nodes {
+            s += &format!("{} {} 0\n", n.1, n.2);
+        }
+        let total = cells.len() + edges.len();
+        s += &format!("$EndNodes\n$Elements\n2 {total} 1 {total}\n");
+        s += &format!("1 1 {edge_type} {}\n", edges.len());
+        let mut tag = 0;
+        for e in edges {
+            tag += 1;
+            s += &format!(
+                "{tag} {}\n",
+                e.iter().map(u64::to_string).collect::<Vec<_>>().join(" ")
+            );
+        }
+        s += &format!("2 1 {cell_type} {}\n", cells.len());
+        for c in cells {
+            tag += 1;
+            s += &format!(
+                "{tag} {}\n",
+                c.iter().map(u64::to_string).collect::<Vec<_>>().join(" ")
+            );
+        }
+        s + "$EndElements\n"
+    }
+
+    pub(crate) const NAMES: &str = "1 1 \"contact\"\n2 2 \"body\"";
+
+    /// Reads `text` as a 2D mesh with Γ_C the group `contact`.
+    pub(crate) fn read_text(text: &str) -> Result<Mesh> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.msh");
+        std::fs::write(&path, text).unwrap();
+        read(&path, 2, "contact")
+    }
+
+    /// The unit square as one Qua4 (nodes 1–4 counter-clockwise from the origin), its bottom
+    /// edge 1–2 in `contact`, the nodes listed in `order`.
+    fn square(order: [usize; 4]) -> String {
+        let all = [(1, 0.0, 0.0), (2, 1.0, 0.0), (3, 1.0, 1.0), (4, 0.0, 1.0)];
+        let nodes: Vec<(u64, f64, f64)> = order.iter().map(|&i| all[i]).collect();
+        msh(NAMES, &nodes, (3, &[&[1, 2, 3, 4]]), (1, &[&[1, 2]]))
+    }
+
+    #[test]
+    fn node_tags_in_any_order_are_mapped_by_tag_and_a_repeated_tag_is_refused() {
+        let sorted = read_text(&square([0, 1, 2, 3])).unwrap();
+        // Tags 4, 3, 2, 1: a contiguous range written in reverse (it was read as node t = the
+        // t-th line, the square turned by 180°).
+        for order in [[3, 2, 1, 0], [1, 3, 0, 2]] {
+            let m = read_text(&square(order)).unwrap();
+            for (c, cell) in m.connectivity.iter().enumerate() {
+                let x = |cell: &[usize], m: &Mesh| -> Vec<[f64; 3]> {
+                    cell.iter().map(|&i| m.nodes[i]).collect()
+                };
+                assert_eq!(
+                    x(cell, &m),
+                    x(&sorted.connectivity[c], &sorted),
+                    "{order:?}"
+                );
+            }
+            let face: Vec<[f64; 3]> = m.contact_faces.as_ref().unwrap()[0]
+                .iter()
+                .map(|&i| m.nodes[i])
+                .collect();
+            assert_eq!(face, [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], "{order:?}");
+        }
+        let twice = square([0, 1, 2, 3]).replace("\n3\n4\n", "\n3\n2\n");
+        let e = read_text(&twice).unwrap_err().to_string();
+        assert!(
+            e.contains("t.msh") && e.contains("node tag 2 appears twice"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn physical_names_are_split_at_any_whitespace() {
+        for names in [
+            "1  1 \"contact\"\n2\t2 \"body\"",
+            " 1 1 \"contact\"\n2 2 \"body\"",
+            "1\t 1\t\"contact\"\n 2 2  \"the body\"",
+        ] {
+            let m = read_text(&square([0, 1, 2, 3]).replace(NAMES, names));
+            assert!(m.is_ok(), "{names:?}: {}", m.unwrap_err());
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.msh");
+        let text = square([0, 1, 2, 3]).replace(NAMES, "1 1 \"contact\"\n2 2 \"the body\"");
+        std::fs::write(&path, text).unwrap();
+        let m = read_bodies(&path, 2, &[("the body", "contact")]).unwrap();
+        assert_eq!(m[0].connectivity.len(), 1);
     }
 }
