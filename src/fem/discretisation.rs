@@ -348,7 +348,8 @@ impl Discretisation {
     }
 
     /// The contact operator with the body lifted by `lift` above the plane: refuses an initial
-    /// penetration deeper than [`PENETRATION_TOLERANCE`] · h, naming the vertex.
+    /// penetration deeper than [`PENETRATION_TOLERANCE`] · h, naming the vertex of Γ_C, or any
+    /// other node of the body below the plane.
     pub fn contact(&self, lift: f64) -> Result<Contact> {
         let (d, x) = (self.dim(), &self.mesh.nodes);
         let n = self.n_dofs();
@@ -371,6 +372,26 @@ impl Discretisation {
                 });
             }
             g0.push(g);
+        }
+        // Every other node too (a body partly below the plane with Γ_C elsewhere, the midside
+        // node of a curved face of Γ_C): the plane is rigid, the body must start above it.
+        if let Some((i, g)) = x
+            .iter()
+            .map(|p| p[d - 1] + lift)
+            .enumerate()
+            .find(|&(_, g)| g < -PENETRATION_TOLERANCE * self.mesh.h)
+        {
+            return Err(Error::Mesh {
+                origin: self.mesh.origin.clone(),
+                message: format!(
+                    "{} at {:?} is below the plane x_{d} = 0 by {:.3e} at t = 0 (lift {lift}): \
+                     the body must start above the rigid obstacle, every node of it, not only \
+                     the vertices of Γ_C",
+                    self.mesh.node_name(i),
+                    x[i],
+                    -g
+                ),
+            });
         }
         let row: std::collections::HashMap<usize, usize> = self
             .contact_vertices
@@ -635,6 +656,21 @@ mod tests {
             "{err}"
         );
         assert!(fem.contact(0.2).is_ok());
+        // A node off the vertices of Γ_C below the plane: the midside node of a Q9 cell's
+        // bottom edge bulging 0.1 through it (the vertices on the plane were all checked).
+        let q9 = RefElement { degree: 2, ..e };
+        let mut mesh = box_mesh(q9, [1, 1, 1], [1.0, 1.0, 1.0]).unwrap();
+        let mid = (0..mesh.nodes.len())
+            .find(|&i| mesh.nodes[i] == [0.5, 0.0, 0.0])
+            .unwrap();
+        mesh.nodes[mid][1] = -0.1;
+        let fem = Discretisation::new(mesh, lame, 1.0, ContactRule::Facing(FACING)).unwrap();
+        let err = fem.contact(0.0).unwrap_err().to_string();
+        assert!(
+            err.contains(&format!("node {mid} ")) && err.contains("below the plane"),
+            "{err}"
+        );
+        assert!(fem.contact(0.1).is_ok());
         let mesh = box_mesh(e, [2, 2, 1], [1.0, 1.0, 1.0]).unwrap();
         let mut mirrored = mesh.clone();
         for x in &mut mirrored.nodes {
