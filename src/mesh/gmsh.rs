@@ -211,12 +211,29 @@ impl File {
         } else {
             4
         };
-        let mut faces = Vec::new();
+        let (mut faces, mut face_tags) = (Vec::new(), Vec::new());
         for block in elements
             .element_blocks
             .iter()
             .filter(|b| b.entity_dim as usize == dim - 1 && on_contact.contains(&b.entity_tag))
         {
+            let t = block.element_type;
+            let vertices = match t {
+                ElementType::Lin2 | ElementType::Lin3 => 2,
+                ElementType::Tri3 | ElementType::Tri6 => 3,
+                ElementType::Qua4 | ElementType::Qua8 | ElementType::Qua9 => 4,
+                _ => 0,
+            };
+            if vertices != n_vert {
+                let e = &block.elements[0];
+                return Err(format!(
+                    "element {} (nodes {:?}) of group `{group}` is a {t:?}: no face of the \
+                     mesh's {} cells (their faces have {n_vert} vertices)",
+                    e.element_tag,
+                    e.nodes,
+                    element.cells()
+                ));
+            }
             for e in &block.elements {
                 let f: Vec<usize> = e.nodes[..n_vert.min(e.nodes.len())]
                     .iter()
@@ -229,6 +246,7 @@ impl File {
                     ));
                 }
                 faces.push(f);
+                face_tags.push((e.element_tag, e.nodes.clone()));
             }
         }
         if faces.is_empty() {
@@ -270,7 +288,7 @@ impl File {
             })
             .sum::<f64>()
             / faces.len() as f64;
-        Ok(Mesh {
+        let mesh = Mesh {
             origin: match cells_group {
                 Some(name) => format!("{} (`{name}`)", self.origin),
                 None => self.origin.clone(),
@@ -284,7 +302,31 @@ impl File {
                 nodes: node_tags,
                 cells: cell_tags,
             }),
-        })
+        };
+        // Every face of Γ_C must be a boundary face of the cells (an interior face, a diagonal,
+        // a face of no cell would be dropped from Γ_C without a word).
+        let mut boundary: Vec<Vec<usize>> = mesh
+            .boundary_faces()
+            .into_iter()
+            .map(|f| {
+                let mut k = f.vertices;
+                k.sort_unstable();
+                k
+            })
+            .collect();
+        boundary.sort_unstable();
+        for (f, (tag, file_nodes)) in mesh.contact_faces.iter().flatten().zip(&face_tags) {
+            let mut k = f.clone();
+            k.sort_unstable();
+            if boundary.binary_search(&k).is_err() {
+                return Err(format!(
+                    "element {tag} (nodes {file_nodes:?}) of group `{group}` is not a boundary \
+                     face of the cells{}: an interior face or no face of a cell",
+                    cells_group.map_or(String::new(), |b| format!(" of `{b}`"))
+                ));
+            }
+        }
+        Ok(mesh)
     }
 }
 
@@ -635,5 +677,60 @@ mod tests {
         std::fs::write(&path, text).unwrap();
         let m = read_bodies(&path, 2, &[("the body", "contact")]).unwrap();
         assert_eq!(m[0].connectivity.len(), 1);
+    }
+
+    /// Two unit squares side by side (nodes 1–6, cells 1-2-5-4 and 2-3-6-5), Γ_C `edges`.
+    fn two_squares(edges: &[&[u64]]) -> String {
+        let nodes = [
+            (1, 0.0, 0.0),
+            (2, 1.0, 0.0),
+            (3, 2.0, 0.0),
+            (4, 0.0, 1.0),
+            (5, 1.0, 1.0),
+            (6, 2.0, 1.0),
+        ];
+        msh(
+            NAMES,
+            &nodes,
+            (3, &[&[1, 2, 5, 4], &[2, 3, 6, 5]]),
+            (1, edges),
+        )
+    }
+
+    #[test]
+    fn contact_faces_that_are_no_boundary_face_of_the_cells_are_refused() {
+        assert!(read_text(&two_squares(&[&[1, 2], &[3, 2]])).is_ok());
+        // The interior edge 2–5 (it was dropped from Γ_C), a diagonal 1–5 of no cell.
+        for (edge, name) in [
+            ([5, 2], "element 2 (nodes [5, 2])"),
+            ([1, 5], "element 2 (nodes [1, 5])"),
+        ] {
+            let e = read_text(&two_squares(&[&[1, 2], &edge]))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("t.msh") && e.contains(name) && e.contains("not a boundary face"),
+                "{e}"
+            );
+        }
+        // A Qua4 face on a tet: it was cut to its first three nodes.
+        let tet = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n2 1 \"contact\"\n\
+                   3 2 \"body\"\n$EndPhysicalNames\n$Entities\n0 0 1 1\n\
+                   1 0 0 0 1 1 0 1 1 0\n1 0 0 0 1 1 1 1 2 0\n$EndEntities\n\
+                   $Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n\
+                   $Elements\n2 2 1 2\n2 1 2 1\n1 1 2 3\n3 1 4 1\n2 1 2 3 4\n$EndElements\n";
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("tet.msh");
+        std::fs::write(&path, tet).unwrap();
+        assert!(read(&path, 3, "contact").is_ok());
+        let quad = tet.replace("2 1 2 1\n1 1 2 3\n", "2 1 3 1\n1 1 2 3 4\n");
+        std::fs::write(&path, quad).unwrap();
+        let e = read(&path, 3, "contact").unwrap_err().to_string();
+        assert!(
+            e.contains("tet.msh")
+                && e.contains("element 1 (nodes [1, 2, 3, 4])")
+                && e.contains("Qua4"),
+            "{e}"
+        );
     }
 }
