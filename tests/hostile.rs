@@ -1882,3 +1882,32 @@ fn two_bodies_overlapping_at_the_start_are_refused_naming_the_vertex() {
         &["overlap.msh", "body 1 node", "penetrates body 2", "t = 0"],
     );
 }
+
+/// A mesh too small for floating point (coordinates ×1e-300) is named as degenerate, with the
+/// file and the cell; it was blamed on `material.density` (h = 0), the file unnamed.
+#[test]
+fn a_mesh_out_of_floating_point_range_is_refused_naming_the_file_and_cell() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("tiny.msh");
+    let tiny = fan_msh([5e-301, 5e-301]).replace(
+        "0 0 0\n1 0 0\n1 1 0\n0 1 0\n",
+        "0 0 0\n1e-300 0 0\n1e-300 1e-300 0\n0 1e-300 0\n",
+    );
+    std::fs::write(&mesh, tiny).unwrap();
+    let o = dir.path().join("o");
+    let out = run(
+        &[
+            "cases/block2d.toml",
+            "--mesh",
+            mesh.to_str().unwrap(),
+            "--t-end",
+            "0.01",
+        ],
+        &["--out", o.to_str().unwrap()],
+    );
+    assert_clear_error(
+        &out,
+        &["tiny.msh", "element 2 (nodes [1, 2, 5])", "degenerate"],
+    );
+    assert!(!stderr(&out).contains("density"), "{}", stderr(&out));
+}

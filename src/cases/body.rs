@@ -726,20 +726,23 @@ impl Body {
         let mut run = spec.run;
         o.apply(&mut run);
         run.validate()?;
+        // The mesh checked first: a degenerate or overflowing mesh is named as such, not
+        // blamed on the density through its h.
+        let fem = Discretisation::new(
+            mesh,
+            Lame::from_young_poisson(m.young, m.poisson),
+            m.density,
+            rule,
+        )?;
         super::check_time_scale(
             ("material.density", m.density),
             ("material.young", m.young),
-            mesh.h,
+            fem.mesh.h,
             run.dt,
         )?;
         Ok(Self {
             kind,
-            fem: Discretisation::new(
-                mesh,
-                Lame::from_young_poisson(m.young, m.poisson),
-                m.density,
-                rule,
-            )?,
+            fem,
             hertz,
             geometry: spec.geometry,
             friction,

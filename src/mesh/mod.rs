@@ -243,6 +243,14 @@ impl Mesh {
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &d| {
                     (l.min(d), h.max(d))
                 });
+            if !big.is_finite() || !big.is_normal() && big > 0.0 {
+                return Err(err(format!(
+                    "{} (nodes {:?}): det J = {big:.3e} is out of floating-point range \
+                     (coordinates too large or too small)",
+                    self.cell_name(c),
+                    self.node_list(cell)
+                )));
+            }
             if big.is_nan() || big <= 0.0 || (lo < 1e-10 * big && hi > -1e-10 * big) {
                 return Err(err(format!(
                     "{} (nodes {:?}) is inverted or degenerate: det J ranges over [{lo:.3e}, \
@@ -572,5 +580,23 @@ mod tests {
             e.contains("[1, 4] bounds cell 0, cell 1, cell 4") && e.contains("at most two"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn coordinates_out_of_floating_point_range_are_refused_naming_the_cell() {
+        for (scale, needle) in [
+            (1e200, "out of floating-point range"),
+            (1e-300, "degenerate"),
+        ] {
+            let mut m = fan([0.5, 0.5, 0.0]);
+            for x in &mut m.nodes {
+                *x = x.map(|v| v * scale);
+            }
+            let e = m.check().unwrap_err().to_string();
+            assert!(
+                e.contains("fan") && e.contains("cell 0") && e.contains(needle),
+                "{e}"
+            );
+        }
     }
 }
