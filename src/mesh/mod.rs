@@ -261,7 +261,61 @@ impl Mesh {
             }
             orientation.push(hi.signum());
         }
-        self.check_neighbours(&orientation)
+        self.check_neighbours(&orientation)?;
+        self.check_coincident()
+    }
+
+    /// Refuses two nodes of the cells closer than 1e-9 of the smallest distance between two
+    /// vertices of a cell (an unmerged seam: the body would fall apart along it), by a grid
+    /// hash of that spacing, O(nodes).
+    fn check_coincident(&self) -> Result<()> {
+        let verts = self.element.vertices();
+        let mut smallest = f64::INFINITY;
+        let mut used = vec![false; self.nodes.len()];
+        for cell in &self.connectivity {
+            for (k, &a) in verts.iter().enumerate() {
+                for &b in &verts[k + 1..] {
+                    smallest = smallest.min(norm(sub(self.nodes[cell[a]], self.nodes[cell[b]])));
+                }
+            }
+            for &i in cell {
+                used[i] = true;
+            }
+        }
+        let tol = 1e-9 * smallest;
+        if !(tol.is_normal() && tol.is_finite()) {
+            return Ok(());
+        }
+        let key = |x: [f64; 3]| x.map(|v| (v / tol).floor() as i64);
+        let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+        for i in (0..self.nodes.len()).filter(|&i| used[i]) {
+            grid.entry(key(self.nodes[i])).or_default().push(i);
+        }
+        for i in (0..self.nodes.len()).filter(|&i| used[i]) {
+            let k = key(self.nodes[i]);
+            {
+                for d in 0..27_i64 {
+                    let o = [d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1];
+                    let near: [i64; 3] = std::array::from_fn(|c| k[c].saturating_add(o[c]));
+                    for &j in grid.get(&near).into_iter().flatten() {
+                        if j > i && norm(sub(self.nodes[i], self.nodes[j])) <= tol {
+                            return Err(Error::Mesh {
+                                origin: self.origin.clone(),
+                                message: format!(
+                                    "{} and {} coincide at {:?} (closer than {tol:.3e}): \
+                                     duplicate nodes, an unmerged seam that would split the \
+                                     body (merge them, e.g. Gmsh's Coherence)",
+                                    self.node_name(i),
+                                    self.node_name(j),
+                                    self.nodes[i]
+                                ),
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Checks that no cell folds over its neighbours: every face bounds at most two cells, and
@@ -598,5 +652,15 @@ mod tests {
                 "{e}"
             );
         }
+    }
+
+    #[test]
+    fn coincident_nodes_of_the_cells_are_refused_naming_both() {
+        // Cell 3 uses a copy (node 5) of corner 3: the fan is cut along the edge 3–4.
+        let mut m = fan([0.5, 0.5, 0.0]);
+        m.nodes.push([0.0, 1.0, 0.0]);
+        m.connectivity[3] = vec![5, 0, 4];
+        let e = m.check().unwrap_err().to_string();
+        assert!(e.contains("node 3 and node 5 coincide"), "{e}");
     }
 }
