@@ -492,13 +492,26 @@ fn reorder(
         .copied()
         .filter(|g| !vertices.contains(g))
         .collect();
+    // Each higher-order node with the vertices it lies between (2 on an edge, 4 at a
+    // quadrilateral's centre, 8 at a hexahedron's): Gmsh lists the edges' nodes, then the
+    // faces', then the volume's, so a node is matched within its own kind only (nearest to its
+    // place on the degree-1 cell), and a curved edge's node never takes the centre's place.
+    let kinds: Vec<(usize, usize, [f64; 3])> = (0..el.n_nodes())
+        .filter(|a| !local_vertices.contains(a))
+        .map(|a| {
+            let (phi, _) = lin.eval(el.node(a));
+            let on = phi.iter().filter(|p| p.abs() > 1e-12).count();
+            let target =
+                std::array::from_fn(|k| vertices.iter().zip(&phi).map(|(&v, p)| p * x[v][k]).sum());
+            (on, a, target)
+        })
+        .collect();
     let mut taken = vec![false; others.len()];
-    for a in (0..el.n_nodes()).filter(|a| !local_vertices.contains(a)) {
-        let (phi, _) = lin.eval(el.node(a));
-        let target: [f64; 3] =
-            std::array::from_fn(|k| vertices.iter().zip(&phi).map(|(&v, p)| p * x[v][k]).sum());
+    for &(on, a, target) in &kinds {
+        let first = kinds.iter().filter(|k| k.0 < on).count();
+        let len = kinds.iter().filter(|k| k.0 == on).count();
         let dist = |g: usize| (0..3).map(|k| (x[g][k] - target[k]).powi(2)).sum::<f64>();
-        let best = (0..others.len())
+        let best = (first..(first + len).min(others.len()))
             .filter(|&j| !taken[j])
             .min_by(|&i, &j| dist(others[i]).total_cmp(&dist(others[j])))
             .ok_or("too few second-order nodes")?;
@@ -563,6 +576,32 @@ fn entities(data: &mshio::MshData<u64, i32, f64>, dim: usize, ptag: i32) -> Vec<
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A Q9 cell whose bottom edge bulges 0.6 outward (det J > 0 in Gmsh's order) was refused
+    /// as inverted: the nearest node to the bottom edge's place was the centre. Edge nodes are
+    /// matched among Gmsh's edge nodes, the centre is its last node.
+    #[test]
+    fn a_strongly_curved_edge_keeps_its_own_node() {
+        let el = RefElement {
+            shape: Shape::Tensor,
+            dim: 2,
+            degree: 2,
+        };
+        let x = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.5, -0.6, 0.0],
+            [1.0, 0.5, 0.0],
+            [0.5, 1.0, 0.0],
+            [0.0, 0.5, 0.0],
+            [0.5, 0.5, 0.0],
+        ];
+        let gm: Vec<usize> = (0..9).collect();
+        // The reference order: lexicographic on the 3 × 3 grid, x fastest.
+        assert_eq!(reorder(&el, &gm, &x).unwrap(), [0, 4, 1, 7, 8, 5, 3, 6, 2]);
+    }
 
     /// A 2D MSH 4.1 file: `nodes` (tag, x, y) in the order given, the cells of `cell_type`
     /// (Gmsh's type number) on surface 1 (group `body`), the edges of `edge_type` on curve 1
