@@ -256,3 +256,25 @@ fn collapse_first_cell(text: &str) -> String {
     out[coords[a]] = lines[coords[b]].to_string();
     out.join("\n") + "\n"
 }
+
+/// A Gmsh body that is not the disc of `geometry.radius` was compared with that radius's Hertz
+/// solution (a radius-2 disc against R = 1: err_contact_radius 0.56; a square too): the mesh's
+/// extent and area must be the reference's within 5 %.
+#[test]
+fn a_gmsh_body_other_than_the_reference_disc_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string("cases/hertz2d.toml").unwrap();
+    let two = dir.path().join("r2.toml");
+    std::fs::write(&two, text.replace("radius = 1.0", "radius = 2.0")).unwrap();
+    let o = Overrides {
+        mesh: Some("cases/meshes/disc.msh".into()),
+        ..Default::default()
+    };
+    let e = error(two.to_str().unwrap(), o.clone());
+    assert!(
+        e.contains("disc.msh") && e.contains("geometry.radius = 2") && e.contains("area"),
+        "{e}"
+    );
+    // The same mesh against the case's own radius runs (gmsh_disc_is_read_and_runs).
+    assert!(load(Path::new("cases/hertz2d.toml"), &o).is_ok());
+}

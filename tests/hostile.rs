@@ -1855,7 +1855,8 @@ fn a_nitsche_gamma_that_swamps_the_stiffness_is_refused_whatever_theta() {
 
 /// Two bodies overlapping at t = 0 ran (energy drift 57 on overlapping discs; body 1 below body
 /// 2 diverged at step 1 only): a slave vertex inside the master is refused, named. Body 2 the
-/// unit square, body 1 the same square lifted by 0.9 (two 3-node triangles each).
+/// unit square, body 1 the same square lifted by 0.9 (two 3-node triangles each), on
+/// slide_on_block2d (two_discs would refuse squares as no Hertz disc first).
 #[test]
 fn two_bodies_overlapping_at_the_start_are_refused_naming_the_vertex() {
     let msh = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n\
@@ -1869,6 +1870,15 @@ fn two_bodies_overlapping_at_the_start_are_refused_naming_the_vertex() {
     let dir = tempfile::tempdir().unwrap();
     let mesh = dir.path().join("overlap.msh");
     std::fs::write(&mesh, msh).unwrap();
+    // Body 2's [master.mesh] would be refused beside a file of both bodies.
+    let text = std::fs::read_to_string("cases/slide_on_block2d.toml").unwrap();
+    let (head, table) = text.split_at(text.find("[master.mesh]").unwrap());
+    let case = dir.path().join("blocks.toml");
+    std::fs::write(
+        &case,
+        format!("{head}{}", &table[table.find("\n[").unwrap()..]),
+    )
+    .unwrap();
     let o = dir.path().join("o");
     let tail = [
         "--mesh",
@@ -1876,7 +1886,7 @@ fn two_bodies_overlapping_at_the_start_are_refused_naming_the_vertex() {
         "--out",
         o.to_str().unwrap(),
     ];
-    let out = run(&["cases/two_discs.toml"], &tail);
+    let out = run(&[case.to_str().unwrap()], &tail);
     assert_clear_error(
         &out,
         &["overlap.msh", "body 1 node", "penetrates body 2", "t = 0"],

@@ -457,6 +457,49 @@ fn refuse_beside_file(spec: &BodySpec, kind: &str, friction: f64) -> Result<()> 
     }
 }
 
+/// Relative tolerance of [`hertz_body`]: a mesh of flat faces inscribed in the circle or sphere
+/// misses its extent and measure by O(h²) (0.5 % at 16 faces a half-circle).
+const HERTZ_BODY_TOLERANCE: f64 = 0.05;
+
+/// Refuses a mesh file that is not the disc or ball of `radius` the Hertz reference is of: its
+/// extent along every axis `2R` and its area `πR²` (volume `4πR³/3`), within
+/// [`HERTZ_BODY_TOLERANCE`]. A disc of radius 2 was compared with the radius-1 reference.
+fn hertz_body(mesh: &Mesh, radius: f64, dim: usize) -> Result<()> {
+    let span = |k: usize| {
+        let (lo, hi) = mesh
+            .nodes
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(x[k]), b.max(x[k]))
+            });
+        hi - lo
+    };
+    let spans: Vec<f64> = (0..dim).map(span).collect();
+    let ball = if dim == 2 {
+        std::f64::consts::PI * radius * radius
+    } else {
+        4.0 / 3.0 * std::f64::consts::PI * radius.powi(3)
+    };
+    let measure = mesh.volume();
+    let off = |x: f64, want: f64| (x - want).abs() > HERTZ_BODY_TOLERANCE * want;
+    if spans.iter().any(|&w| off(w, 2.0 * radius)) || off(measure, ball) {
+        return Err(Error::Mesh {
+            origin: mesh.origin.clone(),
+            message: format!(
+                "spans {spans:.4?} with {} {measure:.4}: not the {} of geometry.radius = {radius} \
+                 that the Hertz reference is of (spans {:.4}, {} {ball:.4}, within {} %); set \
+                 geometry.radius to the mesh's",
+                if dim == 2 { "area" } else { "volume" },
+                if dim == 2 { "disc" } else { "sphere" },
+                2.0 * radius,
+                if dim == 2 { "area" } else { "volume" },
+                100.0 * HERTZ_BODY_TOLERANCE
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// Fields the generated shape would not use, refused by name: a box's radius or grading, a
 /// disc's or sphere's size.
 fn unused_by_shape(g: &Geometry, m: &MeshSpec) -> Result<()> {
@@ -670,6 +713,9 @@ impl Body {
                 )
             })?;
             positive("geometry.radius", radius)?;
+            if matches!(rule, ContactRule::Tagged) {
+                hertz_body(&mesh, radius, dim)?;
+            }
             if g.velocity >= 0.0 {
                 return Err(Error::invalid(
                     "geometry.velocity",
