@@ -348,33 +348,12 @@ impl Discretisation {
     }
 
     /// The contact operator with the body lifted by `lift` above the plane: refuses an initial
-    /// penetration deeper than [`PENETRATION_TOLERANCE`] · h, naming the vertex of Γ_C, or any
-    /// other node of the body below the plane.
+    /// penetration deeper than [`PENETRATION_TOLERANCE`] · h of any node of the body, naming it
+    /// (the vertices of Γ_C, and the others: a body partly below the plane with Γ_C elsewhere,
+    /// the midside node of a curved face of Γ_C; the plane is rigid).
     pub fn contact(&self, lift: f64) -> Result<Contact> {
         let (d, x) = (self.dim(), &self.mesh.nodes);
         let n = self.n_dofs();
-        let mut b_n = TripletBuilder::new(self.contact_vertices.len(), n);
-        let mut g0 = Vec::with_capacity(self.contact_vertices.len());
-        for (r, &(i, _)) in self.contact_vertices.iter().enumerate() {
-            b_n.add(r, self.dof(i, d - 1), -1.0);
-            let g = self.mesh.nodes[i][d - 1] + lift;
-            if g < -PENETRATION_TOLERANCE * self.mesh.h {
-                return Err(Error::Mesh {
-                    origin: self.mesh.origin.clone(),
-                    message: format!(
-                        "{} at {:?} penetrates the plane x_{} = 0 by {:.3e} at t = 0 \
-                         (lift {lift})",
-                        self.mesh.node_name(i),
-                        self.mesh.nodes[i],
-                        d,
-                        -g
-                    ),
-                });
-            }
-            g0.push(g);
-        }
-        // Every other node too (a body partly below the plane with Γ_C elsewhere, the midside
-        // node of a curved face of Γ_C): the plane is rigid, the body must start above it.
         if let Some((i, g)) = x
             .iter()
             .map(|p| p[d - 1] + lift)
@@ -384,14 +363,19 @@ impl Discretisation {
             return Err(Error::Mesh {
                 origin: self.mesh.origin.clone(),
                 message: format!(
-                    "{} at {:?} is below the plane x_{d} = 0 by {:.3e} at t = 0 (lift {lift}): \
-                     the body must start above the rigid obstacle, every node of it, not only \
-                     the vertices of Γ_C",
+                    "{} at {:?} is below the plane x_{d} = 0 by {:.3e} at t = 0 (lift {lift}): it \
+                     penetrates the rigid obstacle, above which every node of the body must start",
                     self.mesh.node_name(i),
                     x[i],
                     -g
                 ),
             });
+        }
+        let mut b_n = TripletBuilder::new(self.contact_vertices.len(), n);
+        let mut g0 = Vec::with_capacity(self.contact_vertices.len());
+        for (r, &(i, _)) in self.contact_vertices.iter().enumerate() {
+            b_n.add(r, self.dof(i, d - 1), -1.0);
+            g0.push(x[i][d - 1] + lift);
         }
         let row: std::collections::HashMap<usize, usize> = self
             .contact_vertices

@@ -382,8 +382,8 @@ fn nodes(
 
 /// The node tags of the `$Nodes` section in file order (ASCII or binary MSH 4.1).
 fn node_tags(bytes: &[u8]) -> std::result::Result<Vec<u64>, String> {
-    let find = |needle: &[u8]| bytes.windows(needle.len()).position(|w| w == needle);
-    let head = find(b"$MeshFormat").ok_or("no $MeshFormat header")?;
+    let find = |hay: &[u8], needle: &[u8]| hay.windows(needle.len()).position(|w| w == needle);
+    let head = find(bytes, b"$MeshFormat").ok_or("no $MeshFormat header")?;
     let format: Vec<String> = String::from_utf8_lossy(&bytes[head..bytes.len().min(head + 100)])
         .split_whitespace()
         .skip(1)
@@ -392,7 +392,7 @@ fn node_tags(bytes: &[u8]) -> std::result::Result<Vec<u64>, String> {
         .collect();
     let binary = format.get(1).map(String::as_str) == Some("1");
     let size: usize = format.get(2).and_then(|s| s.parse().ok()).unwrap_or(8);
-    let start = find(b"$Nodes").ok_or("no $Nodes section")? + b"$Nodes".len();
+    let start = find(bytes, b"$Nodes").ok_or("no $Nodes section")? + b"$Nodes".len();
     let body = &bytes[start..];
     let bad = || "a truncated or malformed $Nodes section".to_string();
     let mut tags = Vec::new();
@@ -424,10 +424,7 @@ fn node_tags(bytes: &[u8]) -> std::result::Result<Vec<u64>, String> {
             }
         }
     } else {
-        let end = body
-            .windows(b"$EndNodes".len())
-            .position(|w| w == b"$EndNodes")
-            .unwrap_or(body.len());
+        let end = find(body, b"$EndNodes").unwrap_or(body.len());
         let text = String::from_utf8_lossy(&body[..end]);
         let tokens: Vec<&str> = text.split_whitespace().collect();
         let mut at = 0;

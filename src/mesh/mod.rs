@@ -293,24 +293,22 @@ impl Mesh {
         }
         for i in (0..self.nodes.len()).filter(|&i| used[i]) {
             let k = key(self.nodes[i]);
-            {
-                for d in 0..27_i64 {
-                    let o = [d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1];
-                    let near: [i64; 3] = std::array::from_fn(|c| k[c].saturating_add(o[c]));
-                    for &j in grid.get(&near).into_iter().flatten() {
-                        if j > i && norm(sub(self.nodes[i], self.nodes[j])) <= tol {
-                            return Err(Error::Mesh {
-                                origin: self.origin.clone(),
-                                message: format!(
-                                    "{} and {} coincide at {:?} (closer than {tol:.3e}): \
-                                     duplicate nodes, an unmerged seam that would split the \
-                                     body (merge them, e.g. Gmsh's Coherence)",
-                                    self.node_name(i),
-                                    self.node_name(j),
-                                    self.nodes[i]
-                                ),
-                            });
-                        }
+            for d in 0..27_i64 {
+                let o = [d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1];
+                let near: [i64; 3] = std::array::from_fn(|c| k[c].saturating_add(o[c]));
+                for &j in grid.get(&near).into_iter().flatten() {
+                    if j > i && norm(sub(self.nodes[i], self.nodes[j])) <= tol {
+                        return Err(Error::Mesh {
+                            origin: self.origin.clone(),
+                            message: format!(
+                                "{} and {} coincide at {:?} (closer than {tol:.3e}): \
+                                 duplicate nodes, an unmerged seam that would split the \
+                                 body (merge them, e.g. Gmsh's Coherence)",
+                                self.node_name(i),
+                                self.node_name(j),
+                                self.nodes[i]
+                            ),
+                        });
                     }
                 }
             }
