@@ -246,10 +246,10 @@ fn the_3d_block_slides_on_its_block_as_the_2d_one() {
 /// slide within the lag bound (measured ≤ 1.74e-3 on the top block); mass elimination drops the
 /// interface and plane elements' mass in every component and slides off by 1.6e-2 (top) and
 /// 3.6e-2 (bottom), as at the plane (`tests/friction.rs`); the singular dynamic method (P2)
-/// 2.3e-3; Moreau–Jean (θ = ½) on the standard and lumped mass 2.2e-3 and 1.9e-3, and it is
-/// unstable on the spaces with massless normal dofs (`E + W_f` off by 7.8, 1.1e3 and 25 × E₀ on
-/// mass redistribution, mass elimination and the singular dynamic method), as under gravity at
-/// the plane.
+/// 2.3e-3; Moreau–Jean (θ = ½) on the standard and lumped mass 2.2e-3 and 1.9e-3. It was
+/// unstable on the spaces without inertia at the contact dofs (`E + W_f` off by 7.8, 1.1e3 and
+/// 25 × E₀ on mass redistribution, mass elimination and the singular dynamic method), as under
+/// gravity at the plane: θ = ½ is refused there ([`dyncontact::time::moreau_jean`]).
 #[test]
 fn every_space_and_friction_scheme_slides_on_the_block() {
     for scheme in ["backward_euler", "newmark", "hht", "moreau_jean"] {
@@ -260,7 +260,16 @@ fn every_space_and_friction_scheme_slides_on_the_block() {
             "mass_elimination",
             "singular_dynamic",
         ] {
-            let m = measure(&samples(space, scheme, |_| {}).unwrap());
+            let ran = samples(space, scheme, |_| {});
+            if scheme == "moreau_jean" && !["standard", "lumped"].contains(&space) {
+                let e = ran.unwrap_err();
+                assert!(
+                    matches!(e, dyncontact::Error::Unsupported(_)),
+                    "{space}: {e}"
+                );
+                continue;
+            }
+            let m = measure(&ran.unwrap());
             println!("{scheme} {space}: {m:?}");
             assert!(m.momentum < 1e-9, "{scheme} {space}: {m:?}");
             assert!(m.least_increment >= -1e-15, "{scheme} {space}: {m:?}");

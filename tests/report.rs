@@ -346,6 +346,13 @@ fn the_friction_section_has_its_rows_conclusions_and_figure() {
     ];
     for space in spaces {
         for scheme in ["backward_euler", "newmark", "hht", "moreau_jean"] {
+            // Moreau–Jean at θ = ½ needs inertia at the contact dofs.
+            if scheme == "moreau_jean" && !["standard", "lumped"].contains(&space) {
+                let row = format!("| {space} | {scheme}");
+                let refused = |l: &str| l.starts_with(&row) && l.ends_with("| unsupported |");
+                assert!(section.lines().any(refused), "{row}:\n{section}");
+                continue;
+            }
             let row = section
                 .lines()
                 .find(|l| l.starts_with(&format!("| {space} | {scheme}")))

@@ -511,8 +511,7 @@ fn first_impact(rows: &[Row]) -> (Option<f64>, Option<f64>) {
         .iter()
         .position(|r| r.sigma_contact == 0.0 && r.gap > 0.0);
     // A body that touches at rest (a slide: v = 0 before the first contact) has no
-    // restitution. Not `v < 0`: the probe's sign is the case's (the bar's massless end under mass
-    // redistribution even reads +½ while its gap closes).
+    // restitution. Not `v < 0`: the probe's sign is the case's.
     let e = release
         .filter(|_| before.v_contact != 0.0)
         .map(|k| -rows[first + k].v_contact / before.v_contact);

@@ -229,7 +229,9 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
                 }),
                 slide: friction.then(|| slide_direction(problem)),
                 spin: case.spin().map(|spin| SpinProbe::new(problem, spin)),
+                mean: MeanVelocity::default(),
             };
+            probe.mean = MeanVelocity::new(problem, probe.master.as_deref());
             let masses = probe
                 .slide
                 .as_ref()
@@ -503,6 +505,52 @@ struct Probe {
     slide: Option<Slide>,
     /// A disc or sphere with friction: its normal velocity and angular velocity.
     spin: Option<SpinProbe>,
+    /// The velocity of a massless probe point.
+    mean: MeanVelocity,
+}
+
+/// The velocity of a probe point whose dofs carry no mass (mass redistribution's Γ_C normal
+/// dofs): their velocity variable has no inertia, and the trapezoidal rule's
+/// `v_{n+1} = 2(u_{n+1} − u_n)/Δt − v_n` keeps an odd–even oscillation there (the bar's end
+/// reads +½ while it moves at −½). Such a point's velocity is the mean over the last step,
+/// `(u_n − u_{n−1}) / (t_n − t_{n−1})`; the first sample keeps the initial velocity.
+#[derive(Debug, Default)]
+struct MeanVelocity {
+    /// Whether the probe's dof, and any of the master point's dofs, are massless.
+    probe: bool,
+    master: bool,
+    /// The last sample's `(t, u_contact, u_contact_master)`.
+    last: Option<(f64, f64, f64)>,
+}
+
+impl MeanVelocity {
+    fn new(problem: &Problem, master: Option<&[(usize, usize, f64)]>) -> Self {
+        // The mixed mass has no zero row; its `massless` runs over the H_h dofs.
+        let massless = match problem.inertia.sparse() {
+            Some(_) => problem.inertia.massless(),
+            None => vec![false; problem.n()],
+        };
+        MeanVelocity {
+            probe: massless[problem.probe.u_dof],
+            master: master.is_some_and(|w| w.iter().any(|&(j, _, _)| massless[j])),
+            last: None,
+        }
+    }
+
+    /// Replaces a massless point's velocity in `row` by its mean over the last step.
+    fn apply(&mut self, row: &mut Row) {
+        let master_u = row.master.map_or(0.0, |m| m.0);
+        if let Some((t, u, m)) = self.last {
+            let dt = row.t - t;
+            if self.probe {
+                row.v_contact = (row.u_contact - u) / dt;
+            }
+            if let Some(point) = row.master.as_mut().filter(|_| self.master) {
+                point.1 = (point.0 - m) / dt;
+            }
+        }
+        self.last = Some((row.t, row.u_contact, master_u));
+    }
 }
 
 /// The normal translation and the rotation of [`crate::cases::Spin`], each with its buffer and
@@ -589,7 +637,7 @@ fn probe_row(
     exact: Option<&dyn crate::exact::ExactContact>,
 ) -> Row {
     let p = problem.probe;
-    Row {
+    let mut row = Row {
         t: s.t,
         u_contact: s.u[p.u_dof],
         v_contact: s.v[p.w_dof],
@@ -619,7 +667,9 @@ fn probe_row(
             let c = e.contact(s.t);
             (c.u, c.sigma, e.energy(s.t))
         }),
-    }
+    };
+    probe.mean.apply(&mut row);
+    row
 }
 
 /// Columns of `summary.csv` before the metrics; the last two are machine-dependent
