@@ -165,6 +165,37 @@ fn open_nonblocking(path: &Path) -> std::io::Result<std::fs::File> {
     options.open(path)
 }
 
+/// An input of a command: its role in messages (`case file`, `mesh file`, …) and its path.
+pub type Named = (&'static str, std::path::PathBuf);
+
+/// Refuses, before any work, to write an output where it would replace one of the command's
+/// `inputs` (`run case.toml --out DIR` where `DIR/summary.csv` is the case file): each output
+/// that exists is compared with each input by where its path leads, and the error names both.
+/// `outputs` are the files the command writes, each with the flag that places it.
+pub fn refuse_overwrite(inputs: &[Named], outputs: &[Named]) -> Result<()> {
+    let inputs: Vec<(&Named, std::path::PathBuf)> = inputs
+        .iter()
+        .filter_map(|i| Some((i, i.1.canonicalize().ok()?)))
+        .collect();
+    for (flag, out) in outputs {
+        let Ok(target) = out.canonicalize() else {
+            continue;
+        };
+        if let Some(((role, path), _)) = inputs.iter().find(|(_, p)| *p == target) {
+            return Err(Error::invalid(
+                *flag,
+                out.display().to_string(),
+                &format!(
+                    "is the {role} {} this command reads: writing it would destroy its input \
+                     (choose another {flag})",
+                    path.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use dyncontact::cases::{self, Overrides};
+use dyncontact::study::manifest::{self, Manifest};
 use dyncontact::study::{jobs, journal, orders, records, reference, run};
 use dyncontact::{Error, Result};
 use std::io::IsTerminal;
@@ -38,9 +39,8 @@ struct Cli {
 enum Command {
     /// List the case files in a directory and the known spaces, schemes and contact solvers.
     List {
-        /// Directory of case files (the repository's `cases/`).
-        #[arg(default_value = "cases")]
-        dir: PathBuf,
+        /// Directory of case files (default: the repository's `cases/`).
+        dir: Option<PathBuf>,
     },
     /// Run every [[sweep]] of the case files; write summary.csv, timings.csv, orders.csv, PNGs,
     /// index.md and index.html.
@@ -152,14 +152,25 @@ enum Command {
     },
 }
 
-/// The case files of `dir` and the registries; where `dir` cannot be read (outside the
-/// repository), the registries and, on stderr, where the case files are expected and how to
-/// point at them.
-fn list(dir: &Path) -> Result<()> {
-    let entries = cases::case_paths(dir).unwrap_or_else(|e| {
-        eprintln!("{e}");
-        Vec::new()
-    });
+/// The case files of `dir` (default `cases`) and the registries. Where the default cannot be
+/// read (outside the repository), the registries and, on stderr, where the case files are
+/// expected and how to point at them; a `dir` given that is no directory is an error.
+fn list(dir: Option<&Path>) -> Result<()> {
+    let entries = match dir {
+        Some(d) if d.exists() && !d.is_dir() => {
+            return Err(Error::invalid(
+                "list DIR",
+                d.display().to_string(),
+                "is a file, not a directory of case files (`dyncontact run FILE` runs one)",
+            ))
+        }
+        Some(d) => cases::case_paths(d)?,
+        None => cases::case_paths(Path::new("cases")).unwrap_or_else(|e| {
+            eprintln!("{e}");
+            Vec::new()
+        }),
+    };
+    let dir = dir.unwrap_or(Path::new("cases"));
     if entries.is_empty() && dir.is_dir() {
         eprintln!("no case files (*.toml) in {}", dir.display());
     }
@@ -233,31 +244,43 @@ fn sweep(
         }
         all.extend(runs);
     }
+    jobs::distinct_keys(&all)?;
+    let study = Manifest::new(&files, quick, &all, shard)?;
     if let Some(s) = shard {
         all = jobs::shard(all, s)?;
     }
-    dyncontact::util::output_dir(out, "--out")?;
-    eprintln!("running {}", dyncontact::util::count(all.len(), "run"));
     let journal = shard.map_or("journal.csv".to_string(), |(i, n)| {
         format!("journal-{i}-of-{n}.csv")
     });
+    let records_path = out.join(manifest::records_name(shard));
+    let manifest_path = manifest::path_beside(&records_path)
+        .ok_or_else(|| Error::Internal("a records file named without `records`".into()))?;
+    let mut outputs = journal::outputs(out, &journal, &all);
+    outputs.extend(
+        [&records_path, &manifest_path, &out.join("orders.csv")].map(|p| ("--out", p.clone())),
+    );
+    let inputs: Vec<_> = files
+        .iter()
+        .flat_map(|f| f.inputs(&Overrides::default()))
+        .collect();
+    dyncontact::input::refuse_overwrite(&inputs, &outputs)?;
+    dyncontact::util::output_dir(out, "--out")?;
+    eprintln!("running {}", dyncontact::util::count(all.len(), "run"));
     let _lock = dyncontact::study::lock::Lock::acquire(out, &journal)?;
     let mut records = journal::run_study(&all, out, &journal, resume, true)?;
     if shard.is_none() {
         reference::reference_errors(&mut records);
     }
     journal::rewrite(out, &journal, &all, &records)?;
-    let name = shard.map_or("records.csv".to_string(), |(i, n)| {
-        format!("records-{i}-of-{n}.csv")
-    });
-    records::write_records(&out.join(&name), &records, true)?;
+    records::write_records(&records_path, &records, true)?;
+    study.write(&manifest_path)?;
     let failed = records
         .iter()
         .filter(|r| r.status != jobs::Status::Ok)
         .count();
     say!(
         "wrote {} ({}, {failed} not ok)",
-        out.join(&name).display(),
+        records_path.display(),
         dyncontact::util::count(records.len(), "run")
     );
     if shard.is_none() {
@@ -268,6 +291,34 @@ fn sweep(
     Ok(())
 }
 
+/// The files `run` writes: [`run::RUN_FILES`] and the lock in `out`, and with `--vtu` the
+/// collection `<case>.pvd` and the inputs that its `<case>_<sample>.vtu` files would replace.
+fn run_outputs(
+    out: &Path,
+    vtu: Option<&Path>,
+    case: &str,
+    inputs: &[dyncontact::input::Named],
+) -> Vec<dyncontact::input::Named> {
+    let mut outputs: Vec<dyncontact::input::Named> = run::RUN_FILES
+        .iter()
+        .chain(["journal.csv.lock"].iter())
+        .map(|f| ("--out", out.join(f)))
+        .collect();
+    if let Some(dir) = vtu {
+        outputs.push(("--vtu", dir.join(format!("{case}.pvd"))));
+        let sample = |name: &str| {
+            name.strip_prefix(&format!("{case}_"))
+                .and_then(|n| n.strip_suffix(".vtu"))
+                .is_some_and(|n| n.bytes().all(|b| b.is_ascii_digit()))
+        };
+        outputs.extend(inputs.iter().filter_map(|(_, p)| {
+            let name = p.file_name()?.to_str()?;
+            sample(name).then(|| ("--vtu", dir.join(name)))
+        }));
+    }
+    outputs
+}
+
 fn main_result(cli: Cli) -> Result<()> {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     dyncontact::util::check_threads(
@@ -275,7 +326,7 @@ fn main_result(cli: Cli) -> Result<()> {
         cores,
     )?;
     match cli.command {
-        Command::List { dir } => list(&dir),
+        Command::List { dir } => list(dir.as_deref()),
         Command::Sweep {
             cases,
             out,
@@ -348,8 +399,12 @@ fn main_result(cli: Cli) -> Result<()> {
                 incidence,
             };
             let path = case;
-            let case = cases::load(&path, &overrides)?;
+            let file = cases::CaseFile::read(&path).map_err(|e| e.in_case_file(&path))?;
+            let case = file.build(&overrides).map_err(|e| e.in_case_file(&path))?;
             case.run().refuse_unused_flags(&overrides.options)?;
+            let inputs = file.inputs(&overrides);
+            let outputs = run_outputs(&out, vtu.as_deref(), case.kind(), &inputs);
+            dyncontact::input::refuse_overwrite(&inputs, &outputs)?;
             dyncontact::util::output_dir(&out, "--out")?;
             // Two runs (or a run and a study) into one directory would mix their files.
             let _lock = dyncontact::study::lock::Lock::acquire(&out, "journal.csv")?;

@@ -570,7 +570,8 @@ fn merge_refuses_records_that_no_sweep_writes() {
         assert_clear_error(&merge(&[&with(column, value)]), needles);
     }
     assert!(!dir.path().join("ESCAPED_orders_energy.png").exists());
-    assert!(merge(&[&mine]).status.success());
+    // A records file under a name of its own has no manifest to tell its study.
+    assert_clear_error(&merge(&[&mine]), &["mine.csv", "no manifest beside it"]);
     // A name of the shard form that no sweep writes is no way around the completeness check.
     for name in [
         "records-1-of-18446744073709551616.csv",
@@ -1920,4 +1921,234 @@ fn a_mesh_out_of_floating_point_range_is_refused_naming_the_file_and_cell() {
         &["tiny.msh", "element 2 (nodes [1, 2, 5])", "degenerate"],
     );
     assert!(!stderr(&out).contains("density"), "{}", stderr(&out));
+}
+
+/// Found by a seventh round of hostile inputs (2026-11-29): `report --profile` replaced the
+/// case file it was given with the profile's header, and `run o/q/summary.csv --out o/q` its
+/// own case file with the run's summary. An input is never an output: refused before any run,
+/// naming both paths; a profile replaces only a profile.
+#[test]
+fn an_input_is_never_overwritten_by_an_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let pc = dir.path().join("pc");
+    std::fs::create_dir_all(&pc).unwrap();
+    let case = edited(&pc, "spring_mass.toml", &[("t_end = 10.0", "t_end = 1.0")]);
+    let text = std::fs::read_to_string(&case).unwrap();
+    let o = dir.path().join("o");
+    let report = |profile: &str| {
+        let args = ["report", "--quick", "--cases", pc.to_str().unwrap()];
+        let out = ["--out", o.to_str().unwrap(), "--profile", profile];
+        dyncontact(&[&args[..], &out].concat())
+    };
+    assert_clear_error(&report(&case), &["--profile", &case, "not a profile"]);
+    assert_eq!(std::fs::read_to_string(&case).unwrap(), text);
+    // A profile of an earlier report is replaced.
+    let profile = dir.path().join("profile.csv");
+    let header = "kind,task,start_s,end_s,wall_s,cpu_s,thread_cpu_s,rss_mb\n";
+    std::fs::write(&profile, header).unwrap();
+    let out = report(profile.to_str().unwrap());
+    assert!(out.status.success(), "{}", stderr(&out));
+    // A case file that is one of the files `run` or `sweep` writes into --out.
+    let q = dir.path().join("q");
+    std::fs::create_dir_all(&q).unwrap();
+    for (command, name) in [("run", "summary.csv"), ("sweep", "orders.csv")] {
+        let input = q.join(name);
+        std::fs::write(&input, &text).unwrap();
+        let input = input.to_str().unwrap();
+        let out = dyncontact(&[command, input, "--out", q.to_str().unwrap()]);
+        assert_clear_error(
+            &out,
+            &["--out", input, "is the case file", "destroy its input"],
+        );
+        assert_eq!(std::fs::read_to_string(input).unwrap(), text);
+    }
+    assert!(!q.join("timeseries.csv").exists() && !q.join("journal.csv").exists());
+}
+
+/// `sweep` with `--quick` (and `--shard`) into `out`, which must succeed.
+fn swept(case: &str, shard: Option<&str>, out: &Path) {
+    let mut args = vec!["sweep", case, "--quick", "--out", out.to_str().unwrap()];
+    if let Some(s) = shard {
+        args.extend(["--shard", s]);
+    }
+    let done = dyncontact(&args);
+    assert!(done.status.success(), "{}", stderr(&done));
+}
+
+/// `merge` of `files` into `out`.
+fn merged(files: &[&Path], out: &Path) -> Output {
+    let mut args = vec!["merge".to_string()];
+    args.extend(files.iter().map(|f| f.to_str().unwrap().to_string()));
+    args.extend(["--out".to_string(), out.to_str().unwrap().to_string()]);
+    dyncontact(&args.iter().map(String::as_str).collect::<Vec<_>>())
+}
+
+/// Found by a seventh round of hostile inputs: `merge` joined shard 1 of 2 of spring_mass with
+/// shard 2 of 2 of two_bars (or of a spring_mass.toml of another stiffness, or of a sweep
+/// without --quick) into incomplete series. Each shard's manifest names its study; shards of
+/// different studies, and records without their manifest, are refused naming the files.
+#[test]
+fn merge_refuses_shards_of_different_studies() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    swept("cases/spring_mass.toml", Some("1/2"), &d.join("c"));
+    let first = d.join("c/records-1-of-2.csv");
+    let stiff = edited(
+        d,
+        "spring_mass.toml",
+        &[("stiffness = 1.0", "stiffness = 4.0")],
+    );
+    swept("cases/two_bars.toml", Some("2/2"), &d.join("c"));
+    swept(&stiff, Some("2/2"), &d.join("d"));
+    let full = d.join("e");
+    let args = ["sweep", "cases/spring_mass.toml", "--shard", "2/2", "--out"];
+    let done = dyncontact(&[&args[..], &[full.to_str().unwrap()]].concat());
+    assert!(done.status.success(), "{}", stderr(&done));
+    for other in ["c", "d", "e"] {
+        let second = d.join(other).join("records-2-of-2.csv");
+        let out = merged(&[&first, &second], &d.join("m"));
+        let names = [first.to_str().unwrap(), second.to_str().unwrap()];
+        assert_clear_error(
+            &out,
+            &[&names[..], &["another study", "in no file"]].concat(),
+        );
+    }
+    assert!(!d.join("m").exists());
+    let manifest = d.join("c/manifest-2-of-2.txt");
+    std::fs::remove_file(&manifest).unwrap();
+    let out = merged(&[&first, &d.join("c/records-2-of-2.csv")], &d.join("m"));
+    assert_clear_error(&out, &[manifest.to_str().unwrap(), "no manifest"]);
+}
+
+/// Found by a seventh round of hostile inputs: the merged summary depended on the order of the
+/// files and on the sharding. The rows come in the enumeration order of the study.
+#[test]
+fn merged_outputs_do_not_depend_on_the_sharding_or_the_file_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cases = "cases/spring_mass.toml";
+    for shard in ["1/2", "2/2", "1/1"] {
+        swept(cases, Some(shard), &d.join("s"));
+    }
+    let [one, two, whole] =
+        ["1-of-2", "2-of-2", "1-of-1"].map(|s| d.join(format!("s/records-{s}.csv")));
+    let runs: [&[&Path]; 3] = [&[&one, &two], &[&two, &one], &[&whole]];
+    let outputs: Vec<(String, String)> = runs
+        .iter()
+        .enumerate()
+        .map(|(k, files)| {
+            let m = d.join(format!("m{k}"));
+            let out = merged(files, &m);
+            assert!(out.status.success(), "{}", stderr(&out));
+            let read = |f: &str| std::fs::read_to_string(m.join(f)).unwrap();
+            (read("summary.csv"), read("orders.csv"))
+        })
+        .collect();
+    assert_eq!(outputs[0], outputs[1]);
+    assert_eq!(outputs[0], outputs[2]);
+}
+
+/// Found by a seventh round of hostile inputs: `sweep --resume` took a journal row whose dt and
+/// steps were not its run's (dt 0.5, 7 steps under a key of dt 0.01), and the last of two rows
+/// of one key. Both are refused, naming the key, the column, both values and the journal.
+#[test]
+fn resume_refuses_journal_rows_that_contradict_their_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = dir.path().join("r");
+    swept("cases/spring_mass.toml", None, &r);
+    let journal = r.join("journal.csv");
+    let good = std::fs::read_to_string(&journal).unwrap();
+    let header: Vec<&str> = good.lines().next().unwrap().split(',').collect();
+    let key = "spring_mass-orders-standard-newmark-beta=0.5;gamma=0.5-L0";
+    // The journal with the columns `edits` of `key`'s row set, or its row appended again.
+    let with = |edits: &[(&str, &str)], twice: bool| {
+        let mut lines: Vec<String> = good.lines().map(String::from).collect();
+        let k = lines.iter().position(|l| l.starts_with(key)).unwrap();
+        let mut row: Vec<String> = lines[k].split(',').map(String::from).collect();
+        for (column, value) in edits {
+            row[header.iter().position(|h| h == column).unwrap()] = value.to_string();
+        }
+        if twice {
+            lines.push(row.join(","));
+        } else {
+            lines[k] = row.join(",");
+        }
+        std::fs::write(&journal, lines.join("\n") + "\n").unwrap();
+    };
+    let resume = || {
+        let args = [
+            "sweep",
+            "cases/spring_mass.toml",
+            "--quick",
+            "--resume",
+            "--out",
+        ];
+        dyncontact(&[&args[..], &[r.to_str().unwrap()]].concat())
+    };
+    let path = journal.to_str().unwrap();
+    for (edits, needles) in [
+        (
+            &[("dt", "0.5"), ("steps", "7")][..],
+            &["column `dt`: 5e-1", "1e-2"][..],
+        ),
+        (
+            &[("steps", "7"), ("energy_drift", "0.0")],
+            &["column `steps`: 7", "1000"],
+        ),
+        (&[("dofs", "3")], &["column `dofs`: 3", "with 1 "]),
+    ] {
+        with(edits, false);
+        assert_clear_error(&resume(), &[&[path, key][..], needles].concat());
+    }
+    with(&[("energy_drift", "0.5")], true);
+    assert_clear_error(
+        &resume(),
+        &[path, key, "is the key of row", "one run, one row"],
+    );
+    std::fs::write(&journal, &good).unwrap();
+    let out = resume();
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
+/// Found by a seventh round of hostile inputs: the case files `a.toml` (sweep `x-s`) and
+/// `a-x.toml` (sweep `s`) give the same keys, and the error named neither file; `dyncontact
+/// list` of a missing directory or of a file said "no case files" and exited 0.
+#[test]
+fn colliding_keys_name_both_files_and_list_refuses_a_path_that_is_no_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = |name: &str| {
+        format!(
+            "\n[[sweep]]\nname = \"{name}\"\nspaces = [\"standard\"]\n\
+             schemes = [{{ scheme = \"newmark\", beta = 0.5, gamma = 0.5 }}]\n\
+             elements = 2\ndt = 0.05\nt_end = 0.5\nratio = 2\nlevels = 2\n"
+        )
+    };
+    let mut files = Vec::new();
+    for (file, kind, sweep) in [("a.toml", "block2d", "x-s"), ("a-x.toml", "block3d", "s")] {
+        let text = std::fs::read_to_string(format!("cases/{kind}.toml")).unwrap();
+        let keep = text.split("\n[[").next().unwrap().to_string();
+        let path = dir.path().join(file);
+        std::fs::write(&path, keep + &table(sweep)).unwrap();
+        files.push(path.to_str().unwrap().to_string());
+    }
+    let o = dir.path().join("o");
+    let out = dyncontact(&["sweep", &files[0], &files[1], "--out", o.to_str().unwrap()]);
+    assert_clear_error(
+        &out,
+        &[
+            &files[0],
+            &files[1],
+            "a `-` in a case file's or a sweep's name",
+        ],
+    );
+    assert!(!o.exists());
+    let missing = dir.path().join("nonexist");
+    assert_clear_error(
+        &dyncontact(&["list", missing.to_str().unwrap()]),
+        &["nonexist"],
+    );
+    assert_clear_error(
+        &dyncontact(&["list", "cases/spring_mass.toml"]),
+        &["cases/spring_mass.toml", "not a directory of case files"],
+    );
 }

@@ -317,7 +317,8 @@ pub fn mesh_size(
     o: &Overrides,
     bodies: f64,
 ) -> Size {
-    let nodes = match o.mesh.as_ref().or(mesh.file.as_ref()) {
+    let file = o.mesh.as_ref().or(mesh.file.as_ref());
+    let nodes = match file {
         Some(file) => std::fs::metadata(file).map_or(0.0, |m| m.len() as f64) / GMSH_BYTES_PER_NODE,
         None => {
             bodies
@@ -332,6 +333,8 @@ pub fn mesh_size(
     Size {
         dim,
         dofs: nodes * dim as f64,
+        exact: (file.is_none() && geometry.shape == "box" && bodies == 1.0)
+            .then_some(nodes as usize * dim),
     }
 }
 

@@ -516,6 +516,10 @@ pub struct Size {
     pub dim: usize,
     /// Displacement dofs, about.
     pub dofs: f64,
+    /// The run's number of dofs where it is known before the run (a bar, the spring, one
+    /// generated box), for a resumed study's check; None where `dofs` is an estimate (a curved
+    /// mesh's bound, a Gmsh file's length, a pair of bodies).
+    pub exact: Option<usize>,
 }
 
 /// Case kinds known to [`load`].
@@ -643,7 +647,8 @@ impl CaseFile {
 
     /// The estimated [`Size`] of a run with `overrides` (nothing is built or validated).
     pub fn size(&self, o: &Overrides) -> Size {
-        let bar = |mesh: &bar::MeshSpec, bars: f64| {
+        // The bar's dofs, and how many of its nodes are fixed (None: not known here).
+        let bar = |mesh: &bar::MeshSpec, bars: f64, fixed: Option<usize>| {
             let (elements, degree) = (
                 o.elements.unwrap_or(mesh.elements),
                 o.degree.unwrap_or(mesh.degree),
@@ -651,15 +656,21 @@ impl CaseFile {
             Size {
                 dim: 1,
                 dofs: bars * (elements as f64 * degree as f64 + 1.0),
+                exact: fixed.map(|f| elements * degree + 1 - f),
             }
         };
         match &self.spec {
-            Spec::Bar1d(s) => bar(&s.mesh, 1.0),
-            Spec::BarFlight(s) => bar(&s.mesh, 1.0),
-            Spec::TwoBars(s) => bar(&s.mesh, 2.0),
+            // bar1d's far end is fixed; two_bars's second bar may have other elements.
+            Spec::Bar1d(s) => bar(&s.mesh, 1.0, Some(1)),
+            Spec::BarFlight(s) => bar(&s.mesh, 1.0, Some(0)),
+            Spec::TwoBars(s) => bar(&s.mesh, 2.0, None),
             Spec::Body(s) => body::size(s, o),
             Spec::TwoBodies(s) => two_bodies::size(s, o),
-            Spec::SpringMass(_) => Size { dim: 0, dofs: 1.0 },
+            Spec::SpringMass(_) => Size {
+                dim: 0,
+                dofs: 1.0,
+                exact: Some(1),
+            },
         }
     }
 
@@ -705,6 +716,24 @@ impl CaseFile {
         }
     }
 
+    /// The case file's own mesh file (`[mesh] file`, relative to the case file), if any.
+    pub fn mesh_file(&self) -> Option<&PathBuf> {
+        match &self.spec {
+            Spec::Body(s) => s.mesh.file.as_ref(),
+            Spec::TwoBodies(s) => s.mesh.file.as_ref(),
+            _ => None,
+        }
+    }
+
+    /// The files a command reads for this case file with `o`: the case file and its mesh
+    /// (`--mesh`, else `[mesh] file`), for [`crate::input::refuse_overwrite`].
+    pub fn inputs(&self, o: &Overrides) -> Vec<crate::input::Named> {
+        let mesh = o.mesh.as_ref().or(self.mesh_file()).cloned();
+        std::iter::once(("case file", self.path.clone()))
+            .chain(mesh.map(|m| ("mesh file", m)))
+            .collect()
+    }
+
     /// Refuses the overrides the case would ignore (a mesh override given to a case without
     /// that kind of mesh), naming the flag.
     pub fn check_overrides(&self, o: &Overrides) -> Result<()> {
@@ -747,12 +776,7 @@ impl CaseFile {
         }
         // A mesh file (the case's own or --mesh) fixes the cells: a sweep's `elements` or
         // `degree` is refused here, before any run, named as the sweep's field.
-        let file = match &self.spec {
-            Spec::Body(s) => s.mesh.file.as_ref(),
-            Spec::TwoBodies(s) => s.mesh.file.as_ref(),
-            _ => None,
-        };
-        if let Some(file) = o.mesh.as_ref().or(file) {
+        if let Some(file) = o.mesh.as_ref().or(self.mesh_file()) {
             body::refuse_generated(o, &file.display().to_string())?;
         }
         Ok(())

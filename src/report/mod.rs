@@ -30,8 +30,10 @@ pub mod verdict;
 
 use crate::cases::{self, Case, CaseFile, Overrides, Size};
 use crate::error::{Error, Result};
+use crate::input::Named;
 use crate::study::jobs::{self, RunRecord};
 use crate::study::journal::{self, run_study_with, Extra};
+use crate::study::manifest;
 use crate::study::orders;
 use crate::study::peers::{self, Agreement};
 use crate::study::profile;
@@ -165,12 +167,19 @@ pub fn report(cases_dir: &Path, out: &Path, opts: &Options) -> Result<Vec<RunRec
         ));
     }
     jobs::distinct_cases(&files)?;
-    crate::util::output_dir(out, "--out")?;
-    let _lock = crate::study::lock::Lock::acquire(out, "journal.csv")?;
     let mut all = Vec::new();
     for f in &files {
         all.extend(jobs::jobs(f, opts.quick)?);
     }
+    let inputs: Vec<Named> = files
+        .iter()
+        .flat_map(|f| f.inputs(&Overrides::default()))
+        .collect();
+    let mut outputs = journal::outputs(out, "journal.csv", &all);
+    outputs.extend(REPORT_FILES.iter().map(|f| ("--out", out.join(f))));
+    crate::input::refuse_overwrite(&inputs, &outputs)?;
+    crate::util::output_dir(out, "--out")?;
+    let _lock = crate::study::lock::Lock::acquire(out, "journal.csv")?;
     // The figures' and the studies' own runs are scheduled with the sweeps' (they need no
     // record), each case file's in the order of the report: friction, oblique, roll, figures.
     let mut extras: Vec<Extra<'_, Result<Part>>> = Vec::new();
@@ -349,20 +358,34 @@ fn finite_body_estimate(case: &dyn Case, size: Size) -> Estimate {
     }
 }
 
-/// Joins record files (from `sweep --shard`) into a report in `out` (no time histories).
+/// Joins record files (from `sweep --shard`) into a report in `out` (no time histories), each
+/// study's complete and in its enumeration order ([`manifest::in_study_order`]).
 pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
     complete_shards(files)?;
-    let (mut records, mut seen) = (Vec::new(), Seen::default());
+    let (mut read, mut seen) = (Vec::new(), Seen::default());
     for f in files {
-        records.extend(read_records(f, &mut seen)?);
+        read.push((f.clone(), read_records(f, &mut seen)?));
     }
-    if records.is_empty() {
+    if read.iter().all(|(_, r)| r.is_empty()) {
         return Err(Error::invalid(
             "records",
             files.len(),
             "the files hold no run: nothing to report",
         ));
     }
+    let records = manifest::in_study_order(read)?;
+    let inputs: Vec<Named> = files
+        .iter()
+        .flat_map(|f| {
+            let manifest = manifest::path_beside(f).map(|m| ("manifest", m));
+            std::iter::once(("records file", f.clone())).chain(manifest)
+        })
+        .collect();
+    let outputs: Vec<Named> = REPORT_FILES
+        .iter()
+        .map(|f| ("--out", out.join(f)))
+        .collect();
+    crate::input::refuse_overwrite(&inputs, &outputs)?;
     // After the inputs, which are cheap to read: a bad input leaves no empty directory.
     crate::util::output_dir(out, "--out")?;
     let cases: Vec<CaseEntry> = crate::util::unique(records.iter().map(|r| r.summary.case.clone()))
@@ -446,6 +469,18 @@ fn complete_shards(files: &[PathBuf]) -> Result<()> {
     }
     Ok(())
 }
+
+/// The files of fixed names a report (or a merge) writes into its directory besides the
+/// journal and the figures ([`write`], [`report`]).
+const REPORT_FILES: [&str; 7] = [
+    "summary.csv",
+    "COLUMNS.md",
+    "timings.csv",
+    "orders.csv",
+    "index.md",
+    "index.html",
+    "cross_code.csv",
+];
 
 fn write(
     out: &Path,

@@ -81,6 +81,55 @@ impl Job {
         let mine = self.file.build(&self.overrides)?;
         Ok(mine.run() == case.run() && mine.h() == case.h() && mine.element() == case.element())
     }
+
+    /// The first column of `r`, a record read back under this job's key, that is not of the
+    /// run this job specifies, as `(column, recorded, specified)`: `dt`, and for a finished run
+    /// `steps` and, where the size is known before the run ([`Size::exact`]), `dofs`.
+    pub fn contradiction(&self, r: &RunRecord) -> Option<(&'static str, String, String)> {
+        let (s, dt) = (&r.summary, self.refinement.dt);
+        // The records' 13 significant digits.
+        if (s.dt - dt).abs() > 1e-9 * dt {
+            return Some(("dt", format!("{:e}", s.dt), format!("{dt:e}")));
+        }
+        if r.status != Status::Ok {
+            return None;
+        }
+        if s.steps != self.steps {
+            return Some(("steps", s.steps.to_string(), self.steps.to_string()));
+        }
+        match self.size.exact {
+            Some(dofs) if dofs != s.dofs => Some(("dofs", s.dofs.to_string(), dofs.to_string())),
+            _ => None,
+        }
+    }
+}
+
+/// Refuses two jobs of one key (one run's record would stand for the other's), naming both
+/// case files and sweeps and the cause: a `-` in a case file's or a sweep's name (case file
+/// `a` with sweep `x-s` and case file `a-x` with sweep `s` both give `a-x-s-…`), or one run
+/// listed twice in a sweep.
+pub fn distinct_keys(jobs: &[Job]) -> Result<()> {
+    let mut first: std::collections::HashMap<&str, &Job> = Default::default();
+    for j in jobs {
+        let Some(a) = first.get(j.key.as_str()) else {
+            first.insert(&j.key, j);
+            continue;
+        };
+        let why = if (&a.file.path, &a.sweep) != (&j.file.path, &j.sweep) {
+            "a `-` in a case file's or a sweep's name lets the keys `<case file>-<sweep>-…` of \
+             two runs meet: rename the case file or the sweep"
+        } else {
+            "one run listed twice (the same scheme and parameters twice in `schemes`, or two \
+             [[sweep]] tables of one name)"
+        };
+        let run = |j: &Job| format!("{} sweep `{}`", j.file.path.display(), j.sweep);
+        return Err(Error::invalid(
+            "sweep",
+            &j.key,
+            &format!("the key of runs of {} and of {}: {why}", run(a), run(j)),
+        ));
+    }
+    Ok(())
 }
 
 /// The cost model of a run, by space dimension (0 to 3; the spring–mass is 0): microseconds per
@@ -299,9 +348,15 @@ pub fn shard(jobs: Vec<Job>, (i, n): (usize, usize)) -> Result<Vec<Job>> {
     Ok(jobs
         .into_iter()
         .enumerate()
-        .filter(|(k, _)| k % n == i - 1)
+        .filter(|(k, _)| in_shard(*k, (i, n)))
         .map(|(_, j)| j)
         .collect())
+}
+
+/// Whether the run at `index` of the enumeration belongs to shard `i` of `n` (1 ≤ i ≤ n):
+/// every n-th run, starting at i − 1.
+pub fn in_shard(index: usize, (i, n): (usize, usize)) -> bool {
+    index % n == i - 1
 }
 
 /// A progress bar over `runs` runs (hidden unless `progress`).

@@ -115,9 +115,26 @@ impl Journal {
     }
 }
 
-/// The records of journal text, each with its case hash.
+/// The records of journal text, each with its case hash. Refuses a run recorded twice (one key,
+/// one case file content): which row would count?
 fn read_journal(text: &[u8], path: &Path) -> Result<Vec<(RunRecord, String)>> {
     let rows = read_rows(text, path, JOURNAL, &[CASE_HASH])?;
+    let mut rows_of: HashMap<(&str, &str), usize> = HashMap::new();
+    for (k, (r, extra)) in rows.iter().enumerate() {
+        let hash = extra.first().map_or("", String::as_str);
+        if let Some(first) = rows_of.insert((r.key.as_str(), hash), k) {
+            return Err(JOURNAL.error(
+                path,
+                format!(
+                    "row {}, column `key`: `{}` is the key of row {} too, of the same case file \
+                     content (one run, one row: remove one)",
+                    k + 2,
+                    r.key,
+                    first + 2
+                ),
+            ));
+        }
+    }
     Ok(rows
         .into_iter()
         .map(|(r, mut x)| (r, x.remove(0)))
@@ -179,6 +196,19 @@ fn read_probe(journal: &Path, r: &RunRecord) -> Result<Vec<(f64, f64, f64)>> {
     Ok(rows)
 }
 
+/// The files a study writes into `dir` beside its records, for
+/// [`crate::input::refuse_overwrite`]: the journal `name`, its lock and the probe series of
+/// `jobs`.
+pub fn outputs(dir: &Path, name: &str, jobs: &[Job]) -> Vec<crate::input::Named> {
+    let journal = dir.join(name);
+    let lock = dir.join(format!("{name}.lock"));
+    [journal.clone(), lock]
+        .into_iter()
+        .chain(jobs.iter().map(|j| probe_path(&journal, &j.key)))
+        .map(|p| ("--out", p))
+        .collect()
+}
+
 /// Folder of the probe series, beside the journal.
 const PROBES: &str = "probes";
 
@@ -225,15 +255,7 @@ pub fn run_study_with<R: Send>(
     (resume, progress): (bool, bool),
     extras: &[Extra<'_, R>],
 ) -> Result<(Vec<RunRecord>, Vec<R>)> {
-    let mut keys = std::collections::HashSet::new();
-    if let Some(j) = jobs.iter().find(|j| !keys.insert(j.key.as_str())) {
-        return Err(Error::invalid(
-            "sweep",
-            &j.key,
-            "two runs of the [[sweep]] tables have the same key (a scheme listed twice in one \
-             [[sweep]], two [[sweep]] tables of one name, or two case files of one name?)",
-        ));
-    }
+    super::jobs::distinct_keys(jobs)?;
     let (journal, done) = Journal::open(dir, journal, resume)?;
     let done_keys: std::collections::HashSet<(&str, &str)> = done
         .iter()
@@ -316,6 +338,17 @@ pub fn run_study_with<R: Send>(
                         "the row of run {} is of sweep `{}`, {} × {}, level {}: not that run \
                          (edited by hand? remove the row, or run without --resume)",
                         j.key, r.sweep, s.space, s.scheme, r.level
+                    ),
+                ));
+            }
+            if let Some((column, recorded, specified)) = j.contradiction(&r) {
+                return Err(JOURNAL.error(
+                    &journal.path,
+                    format!(
+                        "the row of run {}, column `{column}`: {recorded}, where the run is \
+                         specified with {specified} (edited by hand? remove the row, or run \
+                         without --resume)",
+                        j.key
                     ),
                 ));
             }

@@ -11,6 +11,7 @@ pub mod finite_body;
 pub mod jobs;
 pub mod journal;
 pub mod lock;
+pub mod manifest;
 pub mod metrics;
 pub mod orders;
 pub mod peers;

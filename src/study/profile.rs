@@ -69,11 +69,41 @@ pub fn start(path: &Path, out: &Path) -> Result<()> {
             &format!("not a regular file ({kind}): refused"),
         ));
     }
+    refuse_other_file(path)?;
     let mut file = std::fs::File::create(path).map_err(refuse)?;
     writeln!(file, "{}", COLUMNS.join(",")).map_err(refuse)?;
     // A second start keeps the first profile.
     let _ = PROFILE.set((Mutex::new(file), Instant::now()));
     Ok(())
+}
+
+/// Refuses to replace a regular file that holds something else than a profile (its first line
+/// not the profile's header): `--profile cases/bar1d.toml` would destroy the case file. An
+/// empty file, a device and a path not there yet are taken.
+fn refuse_other_file(path: &Path) -> Result<()> {
+    if !std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.len() > 0) {
+        return Ok(());
+    }
+    let header = COLUMNS.join(",");
+    let first = crate::input::TABLE
+        .named("profile")
+        .read(path)
+        .ok()
+        .and_then(|bytes| {
+            let line = bytes.split(|&b| b == b'\n').next()?.to_vec();
+            String::from_utf8(line).ok()
+        });
+    if first.as_deref() == Some(header.as_str()) {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        "--profile",
+        path.display().to_string(),
+        &format!(
+            "exists and is not a profile (its first line is not `{header}`): refused, to keep \
+             it; remove it or write the profile elsewhere"
+        ),
+    ))
 }
 
 /// CPU time (user + system) of this process so far, seconds (NaN where `/proc/self/stat`

@@ -752,6 +752,16 @@ fn size(s: &Summary) -> String {
     }
 }
 
+/// The files [`write_run`] writes into its directory.
+pub const RUN_FILES: [&str; 6] = [
+    "timeseries.csv",
+    "summary.csv",
+    "energy.png",
+    "energy.svg",
+    "contact.png",
+    "contact.svg",
+];
+
 /// Writes `timeseries.csv`, `summary.csv`, `energy.png` and `contact.png` (each with its SVG) of
 /// a run into `dir`.
 pub fn write_run(dir: &Path, result: &RunResult) -> Result<()> {
