@@ -594,14 +594,16 @@ const CLAIMS: &[Claim] = &[
     Claim {
         case: "hertz2d",
         claim: "at peak force the contact half-width and the peak pressure are Hertz's for the \
-                computed force (within 1 % here).",
+                computed force (within 1 % here, tested on the standard mass and mass \
+                redistribution; the other spaces are shown).",
         source: "Hertz (1882); Johnson, Contact Mechanics (1985), §4.3 and §5.6",
         check: |data| hertz_profile(data, "hertz2d"),
     },
     Claim {
         case: "hertz3d",
         claim: "at peak force the contact radius and the peak pressure are Hertz's for the \
-                computed force (within 1 % here).",
+                computed force (within 1 % here, tested on the standard mass and mass \
+                redistribution; the other spaces are shown).",
         source: "Hertz (1882); Johnson, Contact Mechanics (1985), §4.2",
         check: |data| hertz_profile(data, "hertz3d"),
     },
@@ -710,7 +712,8 @@ fn block_claim(data: &Data<'_>, case: &str) -> Option<(Outcome, String)> {
 }
 
 /// The Hertz profile claim: the finest level's contact radius and peak pressure errors of every
-/// space.
+/// space, tested on the standard mass and mass redistribution (the others marked untested: the
+/// singular dynamic method's Q2 vertex contact is soft, `docs/results.md`).
 fn hertz_profile(data: &Data<'_>, case: &str) -> Option<(Outcome, String)> {
     let mut tests = Vec::new();
     let mut words = Vec::new();
@@ -725,12 +728,14 @@ fn hertz_profile(data: &Data<'_>, case: &str) -> Option<(Outcome, String)> {
             let (Some(a), Some(p)) = (m.err_contact_radius, m.err_peak_pressure) else {
                 continue;
             };
-            if s == "mass_redistribution" || s == "standard" {
+            let tested = s == "mass_redistribution" || s == "standard";
+            if tested {
                 tests.push(Some(a < 0.01 && p < 0.01));
             }
             words.push(format!(
-                "{s} (h = {:.3e}): radius {}, peak pressure {}",
+                "{s} (h = {:.3e}{}): radius {}, peak pressure {}",
                 r.summary.h,
+                if tested { "" } else { ", not tested" },
                 percent(a),
                 percent(p)
             ));
