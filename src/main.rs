@@ -442,6 +442,9 @@ fn main_result(cli: Cli) -> Result<()> {
             if let Some(f) = &fields {
                 say!("wrote {}", f.dir.join(format!("{}.pvd", s.case)).display());
             }
+            if case.impact().is_some() && result.rows.iter().all(|r| r.force_contact == 0.0) {
+                say!("note: no contact force in this run: the Hertz errors are empty");
+            }
             // Finite but blown up: written (the curves show it), and refused as a study does.
             match jobs::blowup(&result.rows) {
                 Some((step, time, reason)) => Err(Error::Diverged {

@@ -278,3 +278,38 @@ fn a_gmsh_body_other_than_the_reference_disc_is_refused() {
     // The same mesh against the case's own radius runs (gmsh_disc_is_read_and_runs).
     assert!(load(Path::new("cases/hertz2d.toml"), &o).is_ok());
 }
+
+/// A Hertz case with `lift > 0` compared Hertz's δ_max with the centre of mass's displacement
+/// since t = 0, the flight of the lift included (hertz3d, lift 0.01: err_max_approach 0.054
+/// against 0.293 at lift 0), and a lift that kept the disc off the plane until t_end ran with
+/// every Hertz error empty. Now `approach` is Hertz's, from the first touch (−lift at t = 0),
+/// every Hertz error is the lift-0 run's, and a run that ends before the touch is refused.
+#[test]
+fn a_lift_is_measured_from_the_first_touch_and_a_run_that_never_touches_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string("cases/hertz3d.toml").unwrap();
+    let lifted = dir.path().join("lifted.toml");
+    std::fs::write(&lifted, text.replace("lift = 0.0", "lift = 0.01")).unwrap();
+    let o = Overrides {
+        elements: Some(4),
+        ..Default::default()
+    };
+    let at = |file: &str| run(case(file, o.clone()).as_ref()).unwrap();
+    let (ground, flown) = (at("cases/hertz3d.toml"), at(lifted.to_str().unwrap()));
+    assert_eq!(flown.rows[0].approach, Some(-0.01));
+    let (a, b) = (ground.summary.metrics, flown.summary.metrics);
+    let errors = |m: &dyncontact::study::metrics::Metrics| {
+        [m.err_contact_duration, m.err_peak_force, m.err_max_approach].map(Option::unwrap)
+    };
+    for (x, y) in errors(&a).iter().zip(errors(&b)) {
+        assert!((x - y).abs() < 1e-6 * x, "lift 0: {x}, lift 0.01: {y}");
+    }
+    let text = std::fs::read_to_string("cases/hertz2d.toml").unwrap();
+    let far = dir.path().join("far.toml");
+    std::fs::write(&far, text.replace("lift = 0.0", "lift = 0.5")).unwrap();
+    let e = error(far.to_str().unwrap(), Overrides::default());
+    assert!(
+        e.contains("geometry.lift") && e.contains("t_end") && e.contains("5e1"),
+        "{e}"
+    );
+}

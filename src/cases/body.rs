@@ -633,8 +633,14 @@ pub(super) fn build_mesh(
 
 impl Body {
     /// Validates the spec, applies the overrides and builds the mesh.
+    /// A Hertz impact must touch the plane before `t_end` ([`super::check_touch`]; a part of
+    /// a pair, built by [`Body::with_mesh`], is checked as the pair).
     pub fn from_spec(spec: BodySpec, o: &Overrides) -> Result<Self> {
-        Self::with_mesh(spec, o, None)
+        let body = Self::with_mesh(spec, o, None)?;
+        if let Some(h) = &body.hertz {
+            super::check_touch(body.geometry.lift, body.gap(), h.speed, body.run.t_end)?;
+        }
+        Ok(body)
     }
 
     /// As [`Body::from_spec`], on `mesh` (read by the caller, Γ_C tagged) when given.
@@ -810,6 +816,20 @@ impl Body {
 }
 
 impl Body {
+    /// The initial gap to the plane, `g₀ = min_i x_{i,d} + lift` (0 for a generated body
+    /// released touching it; a Gmsh body may be placed above it).
+    pub fn gap(&self) -> f64 {
+        let d = self.fem.dim();
+        let lowest = self
+            .fem
+            .mesh
+            .nodes
+            .iter()
+            .map(|x| x[d - 1])
+            .fold(f64::INFINITY, f64::min);
+        lowest + self.geometry.lift
+    }
+
     /// The centre of mass's weights `(dof, w = ∫ρ φ_i / m)` on the components along e_d (its
     /// displacement towards the plane is `−Σ w U_dof`) and the discrete mass `m = Σ ∫ρ φ_i`.
     pub fn centre(&self) -> (Vec<(usize, f64)>, f64) {
@@ -938,6 +958,7 @@ impl Case for Body {
                 .iter()
                 .map(|&(i, _)| fem.mesh.nodes[i])
                 .collect(),
+            gap: self.gap(),
         })
     }
 }

@@ -136,9 +136,24 @@ pub struct Impact {
     pub mass: f64,
     /// Initial coordinates of each contact point (for the pressure profile).
     pub positions: Vec<[f64; 3]>,
+    /// The initial gap `g₀ = min g₀_i` along e_d (`geometry.lift` plus the lowest node's height
+    /// above the plane; two bodies: the smallest gap of the pairings), closed in free flight at
+    /// the speed `hertz.speed` before the first touch: Hertz's approach and time start there.
+    pub gap: f64,
 }
 
 impl Impact {
+    /// Hertz's approach `δ = −Σ w U_dof − g₀`: the centre of mass's displacement towards the
+    /// plane since the first touch (0 there, `−g₀` at t = 0).
+    pub fn approach(&self, u: &[f64]) -> f64 {
+        -self.centre.iter().map(|&(j, w)| w * u[j]).sum::<f64>() - self.gap
+    }
+
+    /// The time of the first touch, `t₀ = g₀ / v` (free flight, no gravity in a Hertz impact).
+    pub fn touch_time(&self) -> f64 {
+        self.gap / self.hertz.speed
+    }
+
     /// The centre of pressure `Σ λ_i x_i / Σ λ_i` (tangential coordinates, unused ones 0) of
     /// the nodal contact forces λ, and the total force `Σ λ_i`.
     pub fn centre_of_pressure(&self, lambda: &[f64]) -> ([f64; 2], f64) {
@@ -431,6 +446,26 @@ pub fn check_time_scale(
             stiffness.0,
             stiffness.1,
             dt / TIME_SCALE_RATIO
+        ),
+    ))
+}
+
+/// Refuses a Hertz impact that ends before its first touch, `t_end ≤ t₀ = g₀ / v` (the gap g₀
+/// closed at the speed v, [`Impact::touch_time`]): the run would have no contact and no Hertz
+/// errors. Named `geometry.lift` (`lift`), the gap's knob.
+pub fn check_touch(lift: f64, gap: f64, speed: f64, t_end: f64) -> Result<()> {
+    let t0 = gap / speed;
+    if t0 < t_end {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        "geometry.lift",
+        lift,
+        &format!(
+            "the body starts {gap:e} from the plane or the other body (the lift plus the mesh's \
+             own placement) at the speed {speed:e}: it first touches at t = gap/speed = {t0:e}, \
+             not before run.t_end = {t_end:e}, so the run would have no contact and no Hertz \
+             errors"
         ),
     ))
 }

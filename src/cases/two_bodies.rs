@@ -446,6 +446,9 @@ impl TwoBodies {
         let mut run = spec.run;
         o.apply(&mut run);
         run.validate()?;
+        if let Some(i) = &impact {
+            super::check_touch(spec.geometry.lift, i.gap, i.hertz.speed, run.t_end)?;
+        }
         Ok(Self {
             kind,
             parts,
@@ -488,9 +491,21 @@ impl TwoBodies {
     }
 }
 
-/// The pair's impact: the relative approach of the centres of mass `δ = −Σ w U` (body 1's
-/// weights, body 2's negated: it approaches along +e_d), the reduced discrete mass, and the
-/// initial positions of the slave vertices with a contact row (the rows' order).
+/// The extent `(lowest, highest)` of a mesh's nodes along e_d.
+fn extent(mesh: &Mesh, dim: usize) -> (f64, f64) {
+    mesh.nodes
+        .iter()
+        .map(|x| x[dim - 1])
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), z| {
+            (lo.min(z), hi.max(z))
+        })
+}
+
+/// The pair's impact: the relative approach of the centres of mass `δ = −Σ w U − g₀` (body
+/// 1's weights, body 2's negated: it approaches along +e_d; g₀ the gap between body 1's lowest
+/// point and body 2's highest, closed at the relative speed before the first touch), the
+/// reduced discrete mass, and the initial positions of the slave vertices with a contact row
+/// (the rows' order).
 fn pair_impact(parts: &[Body; 2], bodies: &Bodies, hertz: Hertz) -> Result<Impact> {
     let (c1, m1) = parts[0].centre();
     let (c2, m2) = parts[1].centre();
@@ -503,11 +518,14 @@ fn pair_impact(parts: &[Body; 2], bodies: &Bodies, hertz: Hertz) -> Result<Impac
         .iter()
         .map(|p| slave.mesh.nodes[slave.contact_vertices[p.slave].0])
         .collect();
+    let d = bodies.dim();
+    let gap = extent(&bodies.parts[0].mesh, d).0 - extent(&bodies.parts[1].mesh, d).1;
     Ok(Impact {
         hertz,
         centre,
         mass: m1 * m2 / (m1 + m2),
         positions,
+        gap,
     })
 }
 

@@ -86,7 +86,7 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("energy", "case (energy)", "total energy of the body: kinetic + elastic + potential of the loads"),
     ("gap", "case (length)", "gap g = g₀ − B_N U at the probe"),
     ("force_contact", "case (force)", "total contact force Σλ (per unit thickness in 2D)"),
-    ("approach", "case (length)", "displacement of the centre of mass towards the plane (curved bodies)"),
+    ("approach", "case (length)", "displacement of the centre of mass towards the plane since the first touch, Hertz's approach δ: less the initial gap g₀ (`geometry.lift` and the mesh's height; two bodies: relative, body 2's towards body 1), so −g₀ at t = 0 (curved bodies)"),
     ("momentum", "case (mass·length/time)", "total linear momentum `(M̃1)ᵀV` along the line of impact, with the space's own mass (two free bodies: two_bars, two_discs, two_spheres; not slide_on_block2d, whose block rests on the plane)"),
     ("u_contact_master", "case (length)", "multi-body cases: displacement along the line of impact of the master's contact point facing the probe, `Σ N_k u_k,d` on the master face the probe's slave vertex projects on (the master bar's end in 1D); the master's probe, as `u_contact` is the slave's"),
     ("v_contact_master", "case (length/time)", "multi-body cases: velocity of that point, `Σ N_k v_k,d` (inertial velocity dofs; the H_h vertices for the singular dynamic method; with a massless dof among them, the mean over the last step of `u_contact_master`, as `v_contact`)"),

@@ -162,13 +162,19 @@ impl Shot<'_> {
             computed,
             Style::line(style::space(self.space).color),
         )];
-        let hertz = impact.hertz.force_history(HERTZ_SAMPLES);
+        // Hertz's histories start at the first touch, t₀ = g₀/v.
+        let from_touch = |h: Vec<(f64, f64)>| -> Vec<(f64, f64)> {
+            let t0 = impact.touch_time();
+            h.into_iter().map(|(t, f)| (t0 + t, f)).collect()
+        };
+        let hertz = impact.hertz.force_history(HERTZ_SAMPLES).map(from_touch);
         if let Some(h) = &hertz {
             series.push(Series::reference("Hertz (quasi-static)", h.clone()));
         }
         if let Some(history) = self
             .finite
             .and_then(|f| f.hertz.force_history(HERTZ_SAMPLES))
+            .map(from_touch)
         {
             series.push(Series::new(
                 if self.in_series {

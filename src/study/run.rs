@@ -3,7 +3,7 @@
 
 use super::metrics::{self, Metrics, METRIC_COLUMNS};
 use super::trajectory::{self, Row};
-use crate::cases::Case;
+use crate::cases::{Case, Impact};
 use crate::error::{Error, Result};
 use crate::output::plot::{time_plot, Series, Style, PALETTE};
 use crate::output::vtu::{Fields, VtuSeries};
@@ -220,7 +220,7 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
             let mut probe = Probe {
                 b_row: problem.contact.gap_row(problem.probe.contact),
                 energy: problem.energy_form(),
-                centre: impact.as_ref().map(|i| i.centre.clone()),
+                impact: impact.as_ref(),
                 translation: case.momentum().map(|t| (t, vec![0.0; problem.n()])),
                 master: bodies.map(|b| b.master_probe()).transpose()?.map(|w| {
                     w.into_iter()
@@ -275,7 +275,7 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
                             )?,
                         }
                     }
-                    if probe.centre.is_some() && row.force_contact > f_peak {
+                    if probe.impact.is_some() && row.force_contact > f_peak {
                         f_peak = row.force_contact;
                         peak.fill(&s);
                     }
@@ -490,12 +490,12 @@ impl Progress {
 }
 
 /// What the sampling thread evaluates at every sample besides the probe dofs.
-struct Probe {
+struct Probe<'a> {
     /// The row of the probe's physical gap ([`crate::problem::Contact::gap_row`]).
     b_row: Vec<(usize, f64)>,
     energy: EnergyForm,
-    /// The centre of mass's weights, for the approach of the curved-body cases.
-    centre: Option<Vec<(usize, f64)>>,
+    /// The impact of the curved-body cases, for Hertz's approach ([`Impact::approach`]).
+    impact: Option<&'a Impact>,
     /// The unit translation `1_d` of a multi-body case and a buffer for `M̃V`.
     translation: Option<(Vec<f64>, Vec<f64>)>,
     /// A multi-body case's master point facing the probe: `(u dof, inertial velocity dof, N_k)`.
@@ -632,7 +632,7 @@ fn momentum(problem: &Problem, (one, mv): &mut (Vec<f64>, Vec<f64>), v: &[f64]) 
 /// The probe's row of the time series.
 fn probe_row(
     problem: &Problem,
-    probe: &mut Probe,
+    probe: &mut Probe<'_>,
     s: &State<'_>,
     exact: Option<&dyn crate::exact::ExactContact>,
 ) -> Row {
@@ -645,10 +645,7 @@ fn probe_row(
         energy: probe.energy.energy(s.energy_u, s.v) + s.extra_energy,
         gap: problem.contact.g0[p.contact] - crate::linalg::row_dot(&probe.b_row, s.u),
         force_contact: s.lambda.iter().sum(),
-        approach: probe
-            .centre
-            .as_ref()
-            .map(|w| -w.iter().map(|&(j, x)| x * s.u[j]).sum::<f64>()),
+        approach: probe.impact.map(|i| i.approach(s.u)),
         momentum: probe
             .translation
             .as_mut()
