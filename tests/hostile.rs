@@ -293,6 +293,44 @@ fn a_tangled_gmsh_mesh_is_refused_naming_the_cells() {
     );
 }
 
+/// A Gmsh `contact` group the plane below cannot meet was accepted and the body sank through
+/// the plane ("max penetration 0", the bottom 0.4 below it at t = 4): the top edge of the unit
+/// square (outward normal +e_y), or a side edge above a lower corner of the body.
+#[test]
+fn a_gmsh_contact_group_the_plane_cannot_meet_is_refused_naming_the_face_or_node() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let mesh = dir.path().join("sq.msh");
+    let args = [
+        "cases/block2d.toml",
+        "--mesh",
+        mesh.to_str().unwrap(),
+        "--dt",
+        "0.01",
+        "--t-end",
+        "0.01",
+    ];
+    let with = |edge: &str| fan_msh([0.5, 0.5]).replace("1 1 1 1\n1 1 2\n", edge);
+    std::fs::write(&mesh, with("1 1 1 1\n1 3 4\n")).unwrap();
+    let out = run(&args, &["--out", o.to_str().unwrap()]);
+    assert_clear_error(&out, &["sq.msh", "element 1 (nodes [3, 4])", "faces away"]);
+    // A side edge (n_y = 0) down to the lowest corner is Γ_C enough: it runs.
+    std::fs::write(&mesh, with("1 1 1 1\n1 4 1\n")).unwrap();
+    let out = run(&args, &["--out", o.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // The right edge raised by 0.5 above the left corner: node 1 would meet the plane first.
+    let raised = with("1 1 1 1\n1 2 3\n").replace(
+        "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 0\n",
+        "0 0 0\n1 0.5 0\n1 1.5 0\n0 1.5 0\n0.5 1 0\n",
+    );
+    std::fs::write(&mesh, raised).unwrap();
+    let out = run(&args, &["--out", o.to_str().unwrap()]);
+    assert_clear_error(
+        &out,
+        &["sq.msh", "node 1", "below the lowest vertex of Γ_C"],
+    );
+}
+
 #[test]
 fn a_final_time_off_the_time_grid_is_refused_naming_both_values() {
     let dir = tempfile::tempdir().unwrap();

@@ -789,6 +789,9 @@ impl Body {
             m.density,
             rule,
         )?;
+        if rule == ContactRule::Tagged {
+            fem.check_tagged_contact()?;
+        }
         super::check_time_scale(
             ("material.density", m.density),
             ("material.young", m.young),

@@ -23,7 +23,7 @@ use crate::fem::elasticity::{
 };
 use crate::fem::mass_model::{ElementMass, ElementMixed, MassModel, VelocitySpace};
 use crate::linalg::{SpMat, TripletBuilder};
-use crate::mesh::{ContactRule, Face, Mesh};
+use crate::mesh::{ContactRule, Face, Mesh, FACING};
 use crate::problem::{Contact, ContactFace, Friction, Inertia, Probe, Problem};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -80,6 +80,55 @@ impl Discretisation {
             contact_vertices,
             dofs,
         })
+    }
+
+    /// Γ_C tagged by a mesh file for a body against the plane `x_d = 0` below it (its own frame):
+    /// refuses a face whose outward normal points away from the plane, `n_d > FACING` (side
+    /// faces and a sphere's equator, `n_d ≈ 0`, pass), and a vertex of the cells below Γ_C's
+    /// lowest vertex by more than `PENETRATION_TOLERANCE · h` (the body would meet the plane
+    /// outside Γ_C and sink through it).
+    pub fn check_tagged_contact(&self) -> Result<()> {
+        let (d, mesh) = (self.dim(), &self.mesh);
+        let refuse = |message: String| {
+            Err(Error::Mesh {
+                origin: mesh.origin.clone(),
+                message,
+            })
+        };
+        if let Some(f) = self.contact_faces.iter().find(|f| f.normal[d - 1] > FACING) {
+            return refuse(format!(
+                "contact face {} faces away from the plane below the body: its outward normal \
+                 {:?} has n_{d} = {:.3} > {FACING} (Γ_C holds the faces that can meet the plane \
+                 x_{d} = 0 under the body: tag the lower part of the boundary)",
+                mesh.face_name(f),
+                &f.normal[..d],
+                f.normal[d - 1]
+            ));
+        }
+        let height = |i: usize| mesh.nodes[i][d - 1];
+        let lowest = self
+            .contact_vertices
+            .iter()
+            .map(|v| height(v.0))
+            .fold(f64::INFINITY, f64::min);
+        let below = mesh
+            .vertex_flags()
+            .iter()
+            .enumerate()
+            .filter(|&(i, &v)| v && height(i) < lowest - PENETRATION_TOLERANCE * mesh.h)
+            .map(|(i, _)| i)
+            .min_by(|&a, &b| height(a).total_cmp(&height(b)));
+        match below {
+            Some(i) => refuse(format!(
+                "{} at {:?} lies {:.3e} below the lowest vertex of Γ_C (x_{d} = {lowest:e}): the \
+                 body would meet the plane there, outside Γ_C, and sink through it (tag the \
+                 lower part of the boundary as the contact group)",
+                mesh.node_name(i),
+                &mesh.nodes[i][..d],
+                lowest - height(i)
+            )),
+            None => Ok(()),
+        }
     }
 
     /// `self` with the nodes where `fixed(x)` holds clamped (u = 0, their dofs eliminated);

@@ -301,6 +301,7 @@ impl File {
             tags: Some(super::Tags {
                 nodes: node_tags,
                 cells: cell_tags,
+                faces: face_tags.iter().map(|f| f.0).collect(),
             }),
         };
         // Every face of Γ_C must be a boundary face of the cells (an interior face, a diagonal,

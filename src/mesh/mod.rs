@@ -40,6 +40,8 @@ pub struct Tags {
     pub nodes: Vec<u64>,
     /// Element tag of each cell.
     pub cells: Vec<u64>,
+    /// Element tag of each tagged contact face, in the order of [`Mesh::contact_faces`].
+    pub faces: Vec<u64>,
 }
 
 /// A boundary face: its vertices, measure and unit outward normal.
@@ -179,6 +181,34 @@ impl Mesh {
     /// The nodes `list` as the mesh file numbers them.
     fn node_list(&self, list: &[usize]) -> Vec<u64> {
         list.iter().map(|&i| self.node_tag(i)).collect()
+    }
+
+    /// `element 7 (nodes [3, 4])` for a tagged contact face of a mesh file (its own element
+    /// tag), else `the face of nodes [3, 4] of <cell>`.
+    pub fn face_name(&self, face: &Face) -> String {
+        let key = |v: &[usize]| {
+            let mut k = v.to_vec();
+            k.sort_unstable();
+            k
+        };
+        let nodes = self.node_list(&face.vertices);
+        let tag = self
+            .tags
+            .as_ref()
+            .zip(self.contact_faces.as_ref())
+            .and_then(|(t, f)| {
+                let k = key(&face.vertices);
+                f.iter()
+                    .position(|g| key(g) == k)
+                    .and_then(|i| t.faces.get(i))
+            });
+        match tag {
+            Some(tag) => format!("element {tag} (nodes {nodes:?})"),
+            None => format!(
+                "the face of nodes {nodes:?} of {}",
+                self.cell_name(face.cell)
+            ),
+        }
     }
 
     /// `element 3` (a mesh file's tag) or `cell 0` (a generated mesh's index) for cell `c`.
