@@ -329,6 +329,44 @@ fn bad_two_body_meshes_are_refused() {
     assert!(e.contains("contact.group") && e.contains("contact1"), "{e}");
 }
 
+/// A Gmsh pair labelled the other way round (body 1, the slave that moves along −e_d, below
+/// body 2) ran with exit 0: the discs flew apart and `approach` rose to +0.2 as if closing. Now
+/// the file is refused naming it and both groups; `approach` is the relative approach of a pair
+/// placed as the case says, 0 at the touch and negative once the discs fly apart.
+#[test]
+fn a_pair_placed_against_the_convention_is_refused_and_separation_is_a_negative_approach() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string("cases/meshes/two_discs.msh").unwrap();
+    let mut swapped = text;
+    for (a, b) in [("body1", "body2"), ("contact1", "contact2")] {
+        let (qa, qb) = (format!("\"{a}\""), format!("\"{b}\""));
+        swapped = swapped
+            .replace(&qa, "\"tmp\"")
+            .replace(&qb, &qa)
+            .replace("\"tmp\"", &qb);
+    }
+    let path = dir.path().join("sw.msh");
+    std::fs::write(&path, swapped).unwrap();
+    let e = match load(
+        Path::new("cases/two_discs.toml"),
+        &gmsh(path.to_str().unwrap()),
+    ) {
+        Ok(_) => panic!("accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        e.contains("sw.msh") && e.contains("`body1` (body 1") && e.contains("must lie above"),
+        "{e}"
+    );
+    let r = run(case("cases/two_discs.toml", coarse(8)).as_ref()).unwrap();
+    let (first, last) = (r.rows[0], r.rows[r.rows.len() - 1]);
+    assert_eq!(first.approach, Some(0.0));
+    assert!(
+        last.force_contact == 0.0 && last.approach.unwrap() < 0.0,
+        "{last:?}"
+    );
+}
+
 /// The master's probe (`u_contact_master`, `v_contact_master`: the master's point facing the
 /// slave's probe vertex), starting at the master's own velocity. Two equal bars meet node to
 /// node, a symmetric law: the master's end mirrors the slave's, `u_m = −u_s`, `v_m = −v_s`, at

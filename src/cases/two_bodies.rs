@@ -226,19 +226,41 @@ fn gmsh_bodies(
             (BODY_GROUPS[1], CONTACT_GROUPS[1]),
         ],
     )?;
-    let extreme = |mesh: &Mesh, pick: fn(f64, f64) -> f64, start: f64| {
-        let mut s = [0.0; 3];
-        s[dim - 1] = mesh.nodes.iter().map(|x| x[dim - 1]).fold(start, pick);
-        s
-    };
-    let shifts = [
-        extreme(&meshes[0], f64::min, f64::INFINITY),
-        extreme(&meshes[1], f64::max, f64::NEG_INFINITY),
-    ];
+    let [(lo1, hi1), (lo2, hi2)] = [0, 1].map(|b| extent(&meshes[b], dim));
+    check_placement(file, dim, [(lo1, hi1), (lo2, hi2)])?;
+    let along = |z: f64| std::array::from_fn(|k| if k == dim - 1 { z } else { 0.0 });
+    let shifts = [along(lo1), along(hi2)];
     let [m1, m2]: [Mesh; 2] = meshes
         .try_into()
         .map_err(|_| Error::Internal("two bodies read".into()))?;
     Ok(Some(([m1, m2], shifts)))
+}
+
+/// Refuses a file whose body 1 (the slave, moving along −e_d) does not lie above body 2 (the
+/// master, moving along +e_d): the middle of its extent `(lo, hi)` along x_d must be above body
+/// 2's, or the bodies would fly apart, each turned the wrong way for its own Hertz reference.
+fn check_placement(file: &std::path::Path, dim: usize, extent: [(f64, f64); 2]) -> Result<()> {
+    let middle = extent.map(|(lo, hi)| 0.5 * (lo + hi));
+    if middle[0] > middle[1] {
+        return Ok(());
+    }
+    Err(Error::Mesh {
+        origin: file.display().to_string(),
+        message: format!(
+            "`{}` (body 1, the slave, moving along −e_{dim}) must lie above `{}` (body 2, the \
+             master, moving along +e_{dim}), as in cases/meshes/two_discs.geo: the middle of its \
+             extent along x_{dim} is {:e}, body 2's {:e} (swap the groups `{}`/`{}` and \
+             `{}`/`{}`)",
+            BODY_GROUPS[0],
+            BODY_GROUPS[1],
+            middle[0],
+            middle[1],
+            BODY_GROUPS[0],
+            BODY_GROUPS[1],
+            CONTACT_GROUPS[0],
+            CONTACT_GROUPS[1]
+        ),
+    })
 }
 
 /// A mesh moved rigidly: each node `x ↦ map(x − shift)`.

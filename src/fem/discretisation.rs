@@ -98,10 +98,14 @@ impl Discretisation {
         if let Some(f) = self.contact_faces.iter().find(|f| f.normal[d - 1] > FACING) {
             return refuse(format!(
                 "contact face {} faces away from the plane below the body: its outward normal \
-                 {:?} has n_{d} = {:.3} > {FACING} (Γ_C holds the faces that can meet the plane \
+                 ({}) has n_{d} = {:.3} > {FACING} (Γ_C holds the faces that can meet the plane \
                  x_{d} = 0 under the body: tag the lower part of the boundary)",
                 mesh.face_name(f),
-                &f.normal[..d],
+                f.normal[..d]
+                    .iter()
+                    .map(|x| format!("{x:.3}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
                 f.normal[d - 1]
             ));
         }
