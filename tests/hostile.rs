@@ -331,6 +331,27 @@ fn a_gmsh_contact_group_the_plane_cannot_meet_is_refused_naming_the_face_or_node
     );
 }
 
+/// `two_bars` ran `lengths = [1.0, 1.0, 7.0]` as [1.0, 1.0], the third entry unread (and
+/// `[1.0]` was a TOML type error): both are refused as `geometry.size` is, "needs 2 entries".
+#[test]
+fn two_bars_lengths_of_other_than_two_entries_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    for lengths in ["[1.0, 1.0, 7.0]", "[1.0]"] {
+        let to = format!("lengths = {lengths}");
+        let case = edited(
+            dir.path(),
+            "two_bars.toml",
+            &[("lengths = [1.0, 1.0]", &to)],
+        );
+        let out = run(&[&case], &["--out", o.to_str().unwrap()]);
+        assert_clear_error(
+            &out,
+            &["two_bars.toml", "geometry.lengths", "needs 2 entries"],
+        );
+    }
+}
+
 #[test]
 fn a_final_time_off_the_time_grid_is_refused_naming_both_values() {
     let dir = tempfile::tempdir().unwrap();

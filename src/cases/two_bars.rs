@@ -26,8 +26,8 @@ use serde::Deserialize;
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Geometry {
-    /// L₁, L₂.
-    pub lengths: [f64; 2],
+    /// L₁, L₂ (a list: serde's `[f64; 2]` let TOML's extra entries pass unread).
+    pub lengths: Vec<f64>,
     /// v₀: bar 1 moves at +v₀, bar 2 at −v₀.
     pub velocity: f64,
 }
@@ -64,6 +64,20 @@ pub struct TwoBars {
     sweeps: Vec<super::sweep::SweepSpec>,
 }
 
+/// `geometry.lengths` `[L₁, L₂]`: exactly two entries, each a [`crate::error::length`].
+fn bar_lengths(lengths: &[f64]) -> Result<[f64; 2]> {
+    let [l1, l2] = lengths else {
+        return Err(Error::invalid(
+            "geometry.lengths",
+            lengths,
+            "needs 2 entries, the lengths L₁ and L₂ of the two bars",
+        ));
+    };
+    crate::error::length("geometry.lengths[0]", *l1)?;
+    crate::error::length("geometry.lengths[1]", *l2)?;
+    Ok([*l1, *l2])
+}
+
 /// The most wave crossings of a bar the exact solution follows (`t_end·c/L`; about 6 s at 10⁵).
 pub const MAX_CROSSINGS: f64 = 1e5;
 
@@ -72,15 +86,13 @@ impl TwoBars {
     pub fn from_spec(spec: TwoBarsSpec, o: &Overrides) -> Result<Self> {
         let m = &spec.material;
         m.validate()?;
-        crate::error::length("geometry.lengths[0]", spec.geometry.lengths[0])?;
-        crate::error::length("geometry.lengths[1]", spec.geometry.lengths[1])?;
+        let [l1, l2] = bar_lengths(&spec.geometry.lengths)?;
         positive("geometry.velocity", spec.geometry.velocity)?;
         let degree = o.degree.unwrap_or(spec.mesh.degree);
         let elements = o.elements.unwrap_or(spec.mesh.elements);
         let mut run = spec.run;
         o.apply(&mut run);
         run.validate()?;
-        let [l1, l2] = spec.geometry.lengths;
         bar2_elements(elements, degree, [l1, l2])?;
         m.check_time_scale(l1 / elements.max(1) as f64, run.dt)?;
         // The exact solution follows the waves across each bar, t_end·c/L crossings: a bar this
