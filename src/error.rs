@@ -234,6 +234,28 @@ pub fn length(field: &str, value: f64) -> Result<f64> {
     }
 }
 
+/// The least penalty stiffness accepted, relative to the stiffness it is declared against: a
+/// softer penalty leaves a contact force negligible against the step (the body falls through
+/// the obstacle as if there were none), far below what a compliance study uses.
+pub const MIN_PENALTY: f64 = 1e-12;
+
+/// Checks a penalty parameter `value` (finite, > 0) whose penalty stiffness is `relative` times
+/// the stiffness `scale` describes: refused below [`MIN_PENALTY`].
+pub fn penalty(field: &str, value: f64, relative: f64, scale: &str) -> Result<f64> {
+    positive(field, value)?;
+    if relative >= MIN_PENALTY {
+        return Ok(value);
+    }
+    Err(Error::invalid(
+        field,
+        value,
+        &format!(
+            "makes the penalty stiffness {relative:e} times {scale}, below {MIN_PENALTY:e}: the \
+             contact force would be negligible and the body fall through the obstacle"
+        ),
+    ))
+}
+
 /// Checks that `value` is finite and ≥ 0.
 pub fn non_negative(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value >= 0.0 {

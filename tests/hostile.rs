@@ -352,6 +352,60 @@ fn two_bars_lengths_of_other_than_two_entries_are_refused() {
     }
 }
 
+/// A penalty so soft that the contact vanished ran with exit 0, the block falling through the
+/// plane by its whole travel (max penetration 5.0e-2): `--penalty 1e300` (a relative
+/// compliance), `--penalty-gamma 1e-300` and `--penalty-stiffness 1e-300` (relative
+/// stiffnesses). Each is refused below 1e-12 of its stiffness scale, named; a soft penalty of a
+/// compliance study (r = 1e6) runs.
+#[test]
+fn a_penalty_too_soft_to_hold_the_body_is_refused_naming_the_parameter_and_its_scale() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let block = [
+        "cases/block2d.toml",
+        "--elements",
+        "2",
+        "--dt",
+        "0.01",
+        "--t-end",
+        "0.5",
+    ];
+    let refused = [
+        (
+            &["--contact", "penalty", "--penalty", "1e300"][..],
+            "run.penalty",
+            "max D_ii",
+        ),
+        (
+            &["--scheme", "hauret_le_tallec", "--penalty-gamma", "1e-300"],
+            "run.penalty_gamma",
+            "(B_N K B_Nᵀ)_ii",
+        ),
+        (
+            &[
+                "--scheme",
+                "explicit_penalty",
+                "--space",
+                "lumped",
+                "--penalty-stiffness",
+                "1e-300",
+            ],
+            "run.penalty_stiffness",
+            "max_i K_ii",
+        ),
+    ];
+    for (flags, field, scale) in refused {
+        let out = run(&[&block[..], flags].concat(), &["--out", o]);
+        assert_clear_error(&out, &["block2d.toml", field, scale, "below 1e-12"]);
+    }
+    let out = run(
+        &block,
+        &["--contact", "penalty", "--penalty", "1e6", "--out", o],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
 #[test]
 fn a_final_time_off_the_time_grid_is_refused_naming_both_values() {
     let dir = tempfile::tempdir().unwrap();

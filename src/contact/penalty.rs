@@ -9,7 +9,7 @@
 //! reference.
 
 use super::{Formulation, SolveInfo, Solver};
-use crate::error::{positive, Result, SolverError};
+use crate::error::{Result, SolverError};
 use crate::param::{Entry, Options, Param};
 use crate::problem::Problem;
 use nalgebra::DMatrix;
@@ -36,10 +36,13 @@ pub struct PenaltyContact {
 }
 
 impl PenaltyContact {
-    /// Relative compliance `ratio` (> 0).
+    /// Relative compliance `ratio` (> 0): the penalty stiffness `1/ε` is `1/ratio` times the
+    /// step's stiffest contact point's `1/max D_ii`, refused below [`crate::error::MIN_PENALTY`].
     pub fn new(ratio: f64) -> Result<Self> {
+        let scale =
+            "the stiffness 1/max D_ii of the step's stiffest contact point (ε = r max D_ii)";
         Ok(Self {
-            ratio: positive("run.penalty", ratio)?,
+            ratio: crate::error::penalty("run.penalty", ratio, 1.0 / ratio, scale)?,
         })
     }
 }

@@ -48,7 +48,7 @@
 use super::scheme::{Integrator, Scheme, Solvers, State, StepInfo};
 use super::step::explicit::{self, Explicit};
 use crate::contact::Enforcement;
-use crate::error::{positive, Error, Result};
+use crate::error::{Error, Result};
 use crate::linalg;
 use crate::param::{Entry, Param};
 use crate::problem::Problem;
@@ -79,7 +79,12 @@ impl ExplicitPenalty {
     /// Validated ratio r > 0.
     pub fn new(ratio: f64) -> Result<Self> {
         Ok(Self {
-            ratio: positive("penalty_stiffness", ratio)?,
+            ratio: crate::error::penalty(
+                "penalty_stiffness",
+                ratio,
+                ratio,
+                "the stiffest dof's max_i K_ii (κ = r max K_ii)",
+            )?,
         })
     }
 

@@ -53,7 +53,7 @@
 use super::scheme::{Integrator, Scheme, Solvers, State, StepInfo};
 use super::step::{time_step, LinearSolver, Stepper, Trapezoidal};
 use crate::contact::{Enforcement, SolveInfo, Solver};
-use crate::error::{positive, Error, Result, SolverError};
+use crate::error::{Error, Result, SolverError};
 use crate::linalg;
 use crate::param::{Entry, Param};
 use crate::problem::Problem;
@@ -71,11 +71,7 @@ pub const PENALTY_GAMMA: Param = Param {
 pub const ENTRY: Entry<dyn Scheme> = Entry {
     name: "hauret_le_tallec",
     params: &[&PENALTY_GAMMA],
-    build: |p| {
-        Ok(Box::new(HauretLeTallec {
-            gamma0: positive("penalty_gamma", p.get(&PENALTY_GAMMA))?,
-        }))
-    },
+    build: |p| Ok(Box::new(HauretLeTallec::new(p.get(&PENALTY_GAMMA))?)),
 };
 
 /// The midpoint scheme with a discrete-derivative penalty force.
@@ -83,6 +79,16 @@ pub const ENTRY: Entry<dyn Scheme> = Entry {
 pub struct HauretLeTallec {
     /// γ₀ > 0.
     pub gamma0: f64,
+}
+
+impl HauretLeTallec {
+    /// γ₀ (> 0): `κ_i = γ₀ (B_N K B_Nᵀ)_ii`, refused below [`crate::error::MIN_PENALTY`].
+    pub fn new(gamma0: f64) -> Result<Self> {
+        let scale = "the stiffness (B_N K B_Nᵀ)_ii of the contact point (κ_i = γ₀ of it)";
+        Ok(Self {
+            gamma0: crate::error::penalty("penalty_gamma", gamma0, gamma0, scale)?,
+        })
+    }
 }
 
 impl Scheme for HauretLeTallec {
