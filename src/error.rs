@@ -78,6 +78,14 @@ pub enum Error {
         time: f64,
         reason: String,
     },
+    /// The step matrix `m M + k K` whose stiffness term `k max K_ii` (`stiff`) is below the
+    /// round-off of its mass term (`mass`): a time step too small for K to enter the step.
+    /// [`Error::at_time_step`] names the case's `run.dt` for it.
+    #[error(
+        "the stiffness term of the step matrix m M + k K (k = {k:e}: {stiff:.3e}) is below the \
+         round-off of its mass term ({mass:.3e})"
+    )]
+    StepMatrix { k: f64, stiff: f64, mass: f64 },
     /// Writing CSV output failed (reading one is an [`Error::Input`]).
     #[error("csv output {path}: {message}")]
     Csv { path: PathBuf, message: String },
@@ -150,13 +158,18 @@ impl Error {
     }
 
     /// The error named after the case file `path` when it is about the case's input (a field's
-    /// value, an unknown name, a refused combination), as the errors of reading the file are;
-    /// run-time errors (divergence, solver failures) name their step instead.
+    /// value, an unknown name, a refused combination) or its run (a divergence, a solver or
+    /// factorisation failure, each with its step), as the errors of reading the file are; an
+    /// output file's error names that file instead, an internal error the bug.
     pub fn from_case_input(self, path: &std::path::Path) -> Self {
         match self {
-            Error::InvalidField { .. } | Error::UnknownName { .. } | Error::Unsupported(_) => {
-                self.in_case_file(path)
-            }
+            Error::InvalidField { .. }
+            | Error::UnknownName { .. }
+            | Error::Unsupported(_)
+            | Error::ContactSolver { .. }
+            | Error::Diverged { .. }
+            | Error::Factorisation { .. }
+            | Error::StepMatrix { .. } => self.in_case_file(path),
             _ => self,
         }
     }
@@ -194,6 +207,34 @@ impl Error {
         }
     }
 
+    /// An [`Error::StepMatrix`] named as the case's `run.dt` = `dt`, with the scheme's
+    /// parameters `params` (`beta=0.5;gamma=0.5`) and `k/dt²`; any other error as it is.
+    pub fn at_time_step(self, dt: f64, params: &str) -> Self {
+        let Error::StepMatrix { k, stiff, mass } = self else {
+            return self;
+        };
+        let with = if params.is_empty() {
+            String::new()
+        } else {
+            format!(" with {params}")
+        };
+        let k = match k {
+            0.0 => "0 (it underflows)".to_string(),
+            k => format!("{k:.3e} = {:.3e} dt²", k / dt / dt),
+        };
+        Error::invalid(
+            "run.dt",
+            dt,
+            &format!(
+                "too small against the mass{with}: the step matrix m M + k K has k = {k}, and its \
+                 stiffness term ({stiff:.3e}) is below the round-off of its mass term \
+                 ({mass:.3e}), so K would not enter the step; increase run.dt (or the scheme's \
+                 factor of dt² in k: newmark's or hht's run.beta), or check the mass (density) \
+                 against the stiffness"
+            ),
+        )
+    }
+
     /// Wraps an I/O error with the path it concerns.
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io {
@@ -209,6 +250,16 @@ pub fn positive(field: &str, value: f64) -> Result<f64> {
         Ok(value)
     } else {
         Err(Error::invalid(field, value, "must be finite and > 0"))
+    }
+}
+
+/// A float for messages: as `{}` prints it from 1e-4 to 1e15 (`0.8`, `2`, `12.5`), in the
+/// short `{:e}` form beyond (`1e-318`, not its 330 decimal digits).
+pub fn short(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
     }
 }
 
@@ -282,7 +333,7 @@ pub fn in_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
         Err(Error::invalid(
             field,
             value,
-            &format!("must lie in [{lo}, {hi}]"),
+            &format!("must lie in [{}, {}]", short(lo), short(hi)),
         ))
     }
 }

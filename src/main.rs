@@ -454,7 +454,8 @@ fn main_result(cli: Cli) -> Result<()> {
                         "{reason}; a study records this run as diverged, and the files above \
                          show it"
                     ),
-                }),
+                }
+                .from_case_input(&path)),
                 None => Ok(()),
             }
         }

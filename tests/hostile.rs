@@ -406,6 +406,57 @@ fn a_penalty_too_soft_to_hold_the_body_is_refused_naming_the_parameter_and_its_s
     assert!(out.status.success(), "{}", stderr(&out));
 }
 
+/// Messages of extreme inputs: run.t_end off the grid of dt = 1e-320 printed both end times in
+/// about 330 digits; a step matrix without stiffness quoted a sentence as run.dt's "value"
+/// (`"k = 1.000e-304 in the step matrix m M + k K"`); a contact solver failure and a divergence
+/// lacked the case file that every other error of `run` names first.
+#[test]
+fn extreme_values_are_named_short_and_run_time_errors_name_the_case_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let spring = |flags: &[&str]| {
+        run(
+            &[&["cases/spring_mass.toml"], flags].concat(),
+            &["--out", o],
+        )
+    };
+    let out = spring(&["--dt", "1e-320", "--t-end", "1e-318"]);
+    assert_clear_error(
+        &out,
+        &["run.t_end", "would end at 9.9999e-319 or 1.00999e-318"],
+    );
+    assert!(stderr(&out).len() < 400, "{}", stderr(&out));
+    let out = spring(&["--beta", "1e-300"]);
+    assert_clear_error(&out, &["`run.dt`: 0.01 (", "beta=1e-300", "k = 1.000e-304"]);
+    let out = spring(&["--dt", "1e-300", "--t-end", "1e-299"]);
+    assert_clear_error(&out, &["`run.dt`: 1e-300 (", "k = 0 (it underflows)"]);
+    let out = run(
+        &[
+            "cases/slide2d.toml",
+            "--friction",
+            "1e300",
+            "--t-end",
+            "0.5",
+        ],
+        &["--out", o],
+    );
+    assert_clear_error(
+        &out,
+        &["error: cases/slide2d.toml: contact solver failed at step 1"],
+    );
+    let fast = edited(
+        dir.path(),
+        "two_bars.toml",
+        &[("velocity = ", "velocity = 1e200 #")],
+    );
+    let out = run(&[&fast], &["--out", o]);
+    assert_clear_error(
+        &out,
+        &[&format!("error: {fast}: solution diverged at step 0")],
+    );
+}
+
 #[test]
 fn a_final_time_off_the_time_grid_is_refused_naming_both_values() {
     let dir = tempfile::tempdir().unwrap();

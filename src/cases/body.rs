@@ -489,11 +489,12 @@ fn hertz_body(mesh: &Mesh, radius: f64, dim: usize) -> Result<()> {
         return Err(Error::Mesh {
             origin: mesh.origin.clone(),
             message: format!(
-                "spans {spans:.4?} with {} {measure:.4}: not the {} of geometry.radius = {radius} \
+                "spans {spans:.4?} with {} {measure:.4}: not the {} of geometry.radius = {} \
                  that the Hertz reference is of (spans {:.4}, {} {ball:.4}, within {} %); set \
                  geometry.radius to the mesh's",
                 if dim == 2 { "area" } else { "volume" },
                 if dim == 2 { "disc" } else { "sphere" },
+                crate::error::short(radius),
                 2.0 * radius,
                 if dim == 2 { "area" } else { "volume" },
                 100.0 * HERTZ_BODY_TOLERANCE

@@ -245,14 +245,10 @@ impl RunSpec {
             ));
         }
         if (ratio - ratio.round()).abs() > STEPS_TOLERANCE * ratio {
-            // N·dt to 10 significant digits (3 × 0.4 prints as 1.2).
+            // N·dt to 10 significant digits (3 × 0.4 prints as 1.2; 1e-318 not in 330 digits).
             let at = |n: f64| {
-                format!(
-                    "{}",
-                    format!("{:.9e}", n * self.dt)
-                        .parse::<f64>()
-                        .unwrap_or(n * self.dt)
-                )
+                let x = n * self.dt;
+                crate::error::short(format!("{x:.9e}").parse::<f64>().unwrap_or(x))
             };
             return Err(Error::invalid(
                 "run.t_end",

@@ -416,11 +416,12 @@ impl Discretisation {
             return Err(Error::Mesh {
                 origin: self.mesh.origin.clone(),
                 message: format!(
-                    "{} at {:?} is below the plane x_{d} = 0 by {:.3e} at t = 0 (lift {lift}): it \
+                    "{} at {:?} is below the plane x_{d} = 0 by {:.3e} at t = 0 (lift {}): it \
                      penetrates the rigid obstacle, above which every node of the body must start",
                     self.mesh.node_name(i),
                     x[i],
-                    -g
+                    -g,
+                    crate::error::short(lift)
                 ),
             });
         }

@@ -88,7 +88,8 @@ impl File {
             if let Some(i) = coords.iter().position(|x| x[2] != 0.0) {
                 return Err(err(format!(
                     "node {} of a 2D mesh has z = {} ≠ 0",
-                    node_tags[i], coords[i][2]
+                    node_tags[i],
+                    crate::error::short(coords[i][2])
                 )));
             }
         }

@@ -208,9 +208,10 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
         contact: solver,
         linear: crate::time::LinearSolver::by_name(spec.options.linear_solver())?,
     };
+    let parameters = crate::time::entry(&spec.scheme)?.describe(spec.params());
     let mut integrator = scheme
         .prepare(&problem, spec.dt, solvers)
-        .map_err(|e| formulation.explain(e))?;
+        .map_err(|e| formulation.explain(e).at_time_step(spec.dt, &parameters))?;
     let mut bar = Progress::new(progress, steps);
     let (rows, field_errors, mut peak, iterations, masses) =
         std::thread::scope(|scope| -> Result<_> {

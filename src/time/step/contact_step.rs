@@ -91,16 +91,11 @@ fn check_stiffness_resolved(
     if stiff > 0.0 && stiff >= f64::EPSILON * mass || k_max == 0.0 {
         return Ok(());
     }
-    Err(Error::invalid(
-        "run.dt",
-        format!("k = {k_coef:.3e} in the step matrix m M + k K"),
-        &format!(
-            "too small against the mass: the stiffness term of the step matrix ({stiff:.3e}) is \
-             below the round-off of its mass term ({mass:.3e}); increase run.dt (or the \
-             scheme's factor of Δt² in k: newmark's or hht's run.beta), or check the mass \
-             (density) against the stiffness"
-        ),
-    ))
+    Err(Error::StepMatrix {
+        k: k_coef,
+        stiff,
+        mass,
+    })
 }
 
 /// The constant step operator with its contact coupling, solved directly or by CG.
