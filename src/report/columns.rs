@@ -55,7 +55,7 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("impact_time_err", "case (time)", "`|t̂ − t*|` of the first impact, t̂ extrapolated from the last free step, t* exact"),
     ("err_u_contact_ref", "case (length)", "`err_u_contact` against the sweep's common reference (the finest level of mass redistribution with the sweep's first scheme)"),
     ("err_sigma_l2_ref", "case (stress · time^(1/2))", "`err_sigma_l2` against the sweep's common reference"),
-    ("err_contact_duration", "1", "`|t_c,h − t_c| / t_c` against Hertz (sphere)"),
+    ("err_contact_duration", "1", "`|t_c,h − t_c| / t_c` against Hertz (sphere); empty while the contact is still on at the last sample"),
     ("err_peak_force", "1", "`|F_max,h − F_max| / F_max` against Hertz (sphere)"),
     ("err_max_approach", "1", "`|δ_max,h − δ_max| / δ_max` against Hertz, δ the centre of mass's approach (sphere)"),
     ("err_contact_radius", "1", "at peak force, `|a_h − a(F_h)| / a(F_h)`, a_h from the second moment of the nodal forces (2D: the half-width)"),
