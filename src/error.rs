@@ -17,8 +17,8 @@ pub enum Error {
     },
     /// The directory of case files cannot be read (run outside the repository).
     #[error(
-        "no case files at {} ({source}): the case files (`*.toml`) ship in the `cases/` folder \
-         of the dyncontact repository; run from the repository's root, or give the folder: \
+        "no case files at {} ({source}): give a folder that holds case files (`*.toml`; they \
+         ship in the `cases/` folder of the dyncontact repository, found from its root): \
          `dyncontact list DIR`, `dyncontact report --cases DIR`",
         .dir.display()
     )]
@@ -286,8 +286,9 @@ pub fn length(field: &str, value: f64) -> Result<f64> {
 }
 
 /// The least penalty stiffness accepted, relative to the stiffness it is declared against: a
-/// softer penalty leaves a contact force negligible against the step (the body falls through
-/// the obstacle as if there were none), far below what a compliance study uses.
+/// softer penalty leaves a contact force lost against the step's, far below what a compliance
+/// study uses. Only the absurd: a penalty above it may still be too soft to hold the body
+/// (block2d falls through at r = 1e6), which `max_penetration` reports.
 pub const MIN_PENALTY: f64 = 1e-12;
 
 /// Checks a penalty parameter `value` (finite, > 0) whose penalty stiffness is `relative` times

@@ -309,7 +309,7 @@ fn a_lift_is_measured_from_the_first_touch_and_a_run_that_never_touches_is_refus
     std::fs::write(&far, text.replace("lift = 0.0", "lift = 0.5")).unwrap();
     let e = error(far.to_str().unwrap(), Overrides::default());
     assert!(
-        e.contains("geometry.lift") && e.contains("t_end") && e.contains("5e1"),
+        e.contains("geometry.lift") && e.contains("t_end") && e.contains("= 50,"),
         "{e}"
     );
 }

@@ -295,7 +295,8 @@ fn a_tangled_gmsh_mesh_is_refused_naming_the_cells() {
 
 /// A Gmsh `contact` group the plane below cannot meet was accepted and the body sank through
 /// the plane ("max penetration 0", the bottom 0.4 below it at t = 4): the top edge of the unit
-/// square (outward normal +e_y), or a side edge above a lower corner of the body.
+/// square (outward normal +e_y), or a side edge above a lower corner of the body. A group with
+/// faces that face away beside others (the whole boundary) runs.
 #[test]
 fn a_gmsh_contact_group_the_plane_cannot_meet_is_refused_naming_the_face_or_node() {
     let dir = tempfile::tempdir().unwrap();
@@ -314,8 +315,16 @@ fn a_gmsh_contact_group_the_plane_cannot_meet_is_refused_naming_the_face_or_node
     std::fs::write(&mesh, with("1 1 1 1\n1 3 4\n")).unwrap();
     let out = run(&args, &["--out", o.to_str().unwrap()]);
     assert_clear_error(&out, &["sq.msh", "element 1 (nodes [3, 4])", "faces away"]);
-    // A side edge (n_y = 0) down to the lowest corner is Γ_C enough: it runs.
+    // A side edge (n_y = 0) down to the lowest corner is Γ_C enough, and so is the whole
+    // boundary (a body that may roll: its top faces face away): both run.
     std::fs::write(&mesh, with("1 1 1 1\n1 4 1\n")).unwrap();
+    let out = run(&args, &["--out", o.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let whole = fan_msh([0.5, 0.5]).replace(
+        "$Elements\n2 5 1 5\n1 1 1 1\n1 1 2\n",
+        "$Elements\n2 8 1 8\n1 1 1 4\n1 1 2\n6 2 3\n7 3 4\n8 4 1\n",
+    );
+    std::fs::write(&mesh, whole).unwrap();
     let out = run(&args, &["--out", o.to_str().unwrap()]);
     assert!(out.status.success(), "{}", stderr(&out));
     // The right edge raised by 0.5 above the left corner: node 1 would meet the plane first.

@@ -175,7 +175,10 @@ fn moreau_jean_slides_throughout_at_large_incidence() {
             let mut o = sweep.overrides(space, choice, level);
             o.incidence = Some(60.0);
             let e = run(cases::load(path, &o).unwrap().as_ref()).unwrap_err();
-            assert!(e.to_string().contains("θ = ½"), "{e}");
+            assert!(
+                e.to_string().contains("needs inertia at the contact dofs"),
+                "{e}"
+            );
             continue;
         }
         let m = metrics(space, None);

@@ -14,7 +14,7 @@ pub mod sweep;
 pub mod two_bars;
 pub mod two_bodies;
 
-use crate::error::{positive, Error, Result};
+use crate::error::{positive, short, Error, Result};
 use crate::exact::ExactContact;
 pub use crate::param::Options;
 use crate::param::{Param, Params};
@@ -458,10 +458,14 @@ pub fn check_touch(lift: f64, gap: f64, speed: f64, t_end: f64) -> Result<()> {
         "geometry.lift",
         lift,
         &format!(
-            "the body starts {gap:e} from the plane or the other body (the lift plus the mesh's \
-             own placement) at the speed {speed:e}: it first touches at t = gap/speed = {t0:e}, \
-             not before run.t_end = {t_end:e}, so the run would have no contact and no Hertz \
-             errors"
+            "the body starts {} from the plane or the other body (the lift plus the mesh's \
+             own placement) at the speed {}: it first touches at t = gap/speed = {}, \
+             not before run.t_end = {}, so the run would have no contact and no Hertz \
+             errors",
+            short(gap),
+            short(speed),
+            short(t0),
+            short(t_end)
         ),
     ))
 }

@@ -95,11 +95,15 @@ impl Discretisation {
                 message,
             })
         };
-        if let Some(f) = self.contact_faces.iter().find(|f| f.normal[d - 1] > FACING) {
+        // A whole boundary tagged (a disc that rolls past a quarter turn) faces every way: only
+        // a group whose every face faces away from the plane can never meet it.
+        let meets = self.contact_faces.iter().any(|f| f.normal[d - 1] <= FACING);
+        if let (false, Some(f)) = (meets, self.contact_faces.first()) {
             return refuse(format!(
-                "contact face {} faces away from the plane below the body: its outward normal \
-                 ({}) has n_{d} = {:.3} > {FACING} (Γ_C holds the faces that can meet the plane \
-                 x_{d} = 0 under the body: tag the lower part of the boundary)",
+                "every contact face faces away from the plane below the body: every outward \
+                 normal has n_{d} > {FACING}, e.g. face {}'s ({}) has n_{d} = {:.3} (Γ_C holds \
+                 the faces that can meet the plane x_{d} = 0 under the body: tag the lower part \
+                 of the boundary, or all of it)",
                 mesh.face_name(f),
                 f.normal[..d]
                     .iter()

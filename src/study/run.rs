@@ -511,9 +511,9 @@ struct Probe<'a> {
 }
 
 /// The velocity of a probe point whose dofs carry no mass (mass redistribution's Γ_C normal
-/// dofs): their velocity variable has no inertia, and the trapezoidal rule's
-/// `v_{n+1} = 2(u_{n+1} − u_n)/Δt − v_n` keeps an odd–even oscillation there (the bar's end
-/// reads +½ while it moves at −½). Such a point's velocity is the mean over the last step,
+/// dofs): no dynamics fixes their velocity variable, which a scheme's update (Newmark's
+/// `v_{n+1} = vₙ + Δt ((1 − γ) aₙ + γ a_{n+1})` with the Newmark a of the displacements) carries
+/// with an odd–even oscillation (the bar's end read +½ while it moved at −½). Such a point's velocity is the mean over the last step,
 /// `(u_n − u_{n−1}) / (t_n − t_{n−1})`; the first sample keeps the initial velocity.
 #[derive(Debug, Default)]
 struct MeanVelocity {
