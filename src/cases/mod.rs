@@ -446,12 +446,14 @@ pub fn check_time_scale(
     ))
 }
 
-/// Refuses a Hertz impact that ends before its first touch, `t_end ≤ t₀ = g₀ / v` (the gap g₀
-/// closed at the speed v, [`Impact::touch_time`]): the run would have no contact and no Hertz
-/// errors. Named `geometry.lift` (`lift`), the gap's knob.
+/// Refuses a Hertz impact that ends before its first touch, `t_end ≤ t₀ = g₀ / v` up to a
+/// relative 1e-9 (the gap g₀ closed at the speed v, [`Impact::touch_time`]): the run would have
+/// no contact and no Hertz errors. Named `geometry.lift` (`lift`), the gap's knob.
 pub fn check_touch(lift: f64, gap: f64, speed: f64, t_end: f64) -> Result<()> {
     let t0 = gap / speed;
-    if t0 < t_end {
+    // Relative to t_end: a touch at t_end up to rounding (0.3 / 0.1 = 2.9999999999999996 < 3)
+    // would leave no contact either.
+    if t0 < t_end * (1.0 - 1e-9) {
         return Ok(());
     }
     Err(Error::invalid(
@@ -600,7 +602,8 @@ enum Spec {
 pub struct CaseFile {
     /// Where it was read (for messages).
     pub path: PathBuf,
-    /// [`crate::util::content_hash`] of its text (the study records' key).
+    /// [`crate::util::content_hash`] of its text and of its `[mesh] file`'s bytes (the study
+    /// records' key).
     pub hash: String,
     /// What the case is: the file's first comment line, up to a parenthesis or a full stop.
     pub title: String,
@@ -664,13 +667,20 @@ impl CaseFile {
                 })
             }
         };
-        Ok(Self {
+        let mut file = Self {
             path: path.to_path_buf(),
-            hash: crate::util::content_hash(text.as_bytes()),
+            hash: String::new(),
             title: title(&text),
             spec,
             defaults: Defaults::default(),
-        })
+        };
+        // The mesh file's bytes too: a journal row of the old mesh is not this file's run.
+        let mut bytes = text.into_bytes();
+        if let Some(mesh) = file.mesh_file() {
+            bytes.extend(crate::input::MESH_FILE.read(mesh)?);
+        }
+        file.hash = crate::util::content_hash(&bytes);
+        Ok(file)
     }
 
     /// The file's name without extension (`bar1d` for `cases/bar1d.toml`).

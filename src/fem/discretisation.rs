@@ -119,18 +119,24 @@ impl Discretisation {
             .iter()
             .map(|v| height(v.0))
             .fold(f64::INFINITY, f64::min);
+        // A vertex outside Γ_C as low as its lowest meets the plane with it (the bottom corner
+        // of a square whose left side alone is Γ_C) and sinks through.
+        let in_contact: std::collections::HashSet<usize> =
+            self.contact_vertices.iter().map(|v| v.0).collect();
         let below = mesh
             .vertex_flags()
             .iter()
             .enumerate()
-            .filter(|&(i, &v)| v && height(i) < lowest - PENETRATION_TOLERANCE * mesh.h)
+            .filter(|&(i, &v)| {
+                v && !in_contact.contains(&i) && height(i) < lowest + PENETRATION_TOLERANCE * mesh.h
+            })
             .map(|(i, _)| i)
             .min_by(|&a, &b| height(a).total_cmp(&height(b)));
         match below {
             Some(i) => refuse(format!(
-                "{} at {:?} lies {:.3e} below the lowest vertex of Γ_C (x_{d} = {lowest:e}): the \
-                 body would meet the plane there, outside Γ_C, and sink through it (tag the \
-                 lower part of the boundary as the contact group)",
+                "{} at {:?}, not on Γ_C, lies as low as Γ_C's lowest vertex or lower (by {:.3e}; \
+                 x_{d} = {lowest:e}): the body would meet the plane there, outside Γ_C, and sink \
+                 through it (tag the lower part of the boundary as the contact group)",
                 mesh.node_name(i),
                 &mesh.nodes[i][..d],
                 lowest - height(i)

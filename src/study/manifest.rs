@@ -13,7 +13,7 @@
 use super::jobs::{in_shard, Job, RunRecord};
 use crate::cases::CaseFile;
 use crate::error::{Error, Result};
-use crate::input::{Input, MESH_FILE, TABLE};
+use crate::input::{Input, TABLE};
 use crate::util::content_hash;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -62,15 +62,12 @@ pub fn path_beside(records: &Path) -> Option<PathBuf> {
 
 impl Manifest {
     /// The manifest of `shard` of the study of `files` with `quick`, whose runs, all of them
-    /// in enumeration order, are `jobs`. Reads each case file's mesh file to hash it.
+    /// in enumeration order, are `jobs`.
     pub fn new(files: &[Arc<CaseFile>], quick: bool, jobs: &[Job], shard: Shard) -> Result<Self> {
         let mut text = format!("quick {quick}\n");
+        // Each case file's hash covers its mesh file's bytes.
         for f in files {
             text += &format!("case file {}\n", f.hash);
-            if let Some(mesh) = f.mesh_file() {
-                let hash = content_hash(&MESH_FILE.read(mesh)?);
-                text += &format!("mesh file {hash}\n");
-            }
         }
         let keys: Vec<String> = jobs.iter().map(|j| j.key.clone()).collect();
         text += &keys.join("\n");
@@ -126,6 +123,12 @@ impl Manifest {
             })?),
         };
         let keys: Vec<String> = lines.map(String::from).collect();
+        if let Some(at) = keys.iter().position(String::is_empty) {
+            return Err(err(&format!(
+                "line {}: an empty line where a key is due",
+                at + 4
+            )));
+        }
         if let Some(k) = crate::util::first_repeated(&keys) {
             return Err(err(&format!(
                 "the key `{k}` is listed twice (one run, one key)"
@@ -286,18 +289,21 @@ fn complete(study: &[ShardFile], others: &[&Path]) -> Result<()> {
     let first = &study[0];
     let (m, n) = (&first.manifest, first.manifest.shards());
     for s in &study[1..] {
-        if s.manifest.keys != m.keys || s.manifest.shards() != n {
-            return Err(Error::invalid(
-                "records",
-                s.path.display().to_string(),
-                &format!(
-                    "its manifest and that of {} name one study but list other runs or cut it \
-                     into {} shards, not {n} (edited by hand?)",
-                    first.path.display(),
-                    s.manifest.shards()
-                ),
-            ));
-        }
+        let differs = if s.manifest.keys != m.keys {
+            "list other runs".to_string()
+        } else if s.manifest.shards() != n {
+            format!("cut it into {} shards, not {n}", s.manifest.shards())
+        } else {
+            continue;
+        };
+        return Err(Error::invalid(
+            "records",
+            s.path.display().to_string(),
+            &format!(
+                "its manifest and that of {} name one study but {differs} (edited by hand?)",
+                first.path.display(),
+            ),
+        ));
     }
     let given: HashSet<usize> = study
         .iter()
@@ -370,5 +376,12 @@ mod tests {
         std::fs::write(&path, "key,sweep\n").unwrap();
         let e = Manifest::read(&path).unwrap_err().to_string();
         assert!(e.contains("manifest") && e.contains("line 1"), "{e}");
+        // Blank lines appended were read as a key `` listed twice.
+        m.write(&path).unwrap();
+        let mut text = std::fs::read_to_string(&path).unwrap();
+        text.push_str("\n\n");
+        std::fs::write(&path, text).unwrap();
+        let e = Manifest::read(&path).unwrap_err().to_string();
+        assert!(e.contains("empty line"), "{e}");
     }
 }

@@ -458,7 +458,8 @@ impl ImpactMeasures {
 }
 
 /// The Hertz metrics of an impact run: duration (none while the contact is still on at the last
-/// sample), peak force, maximum approach (sphere), the
+/// sample), peak force, maximum approach (sphere) and the profile (none while the force still
+/// rises at the last sample), the
 /// pressure profile at peak force (`peak`: the nodal forces λ at the sample of largest total
 /// force and the tributary areas), and the restitution from the centre of mass's velocity
 /// after release (`−(δ_N − δ_{N−1}) / (Δt v)`, when the force is zero at the last two samples;
@@ -472,9 +473,17 @@ pub fn hertz(m: &mut Metrics, rows: &[Row], (lambda, area): (&[f64], &[f64]), im
     [m.err_contact_duration, m.err_peak_force, m.err_max_approach] =
         measures.errors(h).map(|e| e.map(f64::abs));
     let n = rows.len();
-    // A contact still on at t_end has lasted at least that long: no duration to compare.
-    if rows.last().is_some_and(|r| r.force_contact > 0.0) {
+    // A contact still on at t_end has lasted at least that long: no duration to compare; and
+    // while its force still rises there, no peak either (the force, approach and profile at
+    // the peak are compared below only when the peak lies before the last sample).
+    let cut = rows.last().filter(|r| r.force_contact > 0.0);
+    let rising = cut.is_some_and(|r| r.force_contact >= measures.peak_force);
+    if cut.is_some() {
         m.err_contact_duration = None;
+    }
+    if rising {
+        [m.err_peak_force, m.err_max_approach] = [None, None];
+        return;
     }
     let dt = rows.get(1).map_or(0.0, |r| r.t - rows[0].t);
     if n >= 2 && rows[n - 1].force_contact == 0.0 && rows[n - 2].force_contact == 0.0 {
