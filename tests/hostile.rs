@@ -657,7 +657,7 @@ fn merge_refuses_records_that_no_sweep_writes() {
     );
     assert_clear_error(
         &merge(&[&records, &records]),
-        &["not the 2 shards of a sweep"],
+        &["not the 2 shards of a sweep", "given fewer than 2 times"],
     );
     let [mine, again] = ["mine.csv", "again.csv"].map(|f| dir.path().join(f));
     std::fs::copy(&records, &mine).unwrap();

@@ -450,8 +450,14 @@ fn complete_shards(files: &[PathBuf]) -> Result<()> {
                 "records",
                 format!("records-*-of-{n}.csv"),
                 &format!(
-                    "not the {n} shards of a sweep, each as often (given: {:?}; missing: {})",
+                    "not the {n} shards of a sweep, each as often (given: {:?}; {}: {})",
                     group.iter().map(|s| s.1).collect::<Vec<_>>(),
+                    if most > 1 {
+                        // A file given twice, or k sweeps' shards with one of them short.
+                        format!("given fewer than {most} times, as another shard is")
+                    } else {
+                        "missing".to_string()
+                    },
                     names.join(", ")
                 ),
             ));
