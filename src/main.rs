@@ -155,8 +155,9 @@ enum Command {
 /// The case files of `dir` (default `cases`) and the registries. Where the default cannot be
 /// read (outside the repository), the registries and, on stderr, where the case files are
 /// expected and how to point at them; a `dir` given that is no directory is an error.
-fn list(dir: Option<&Path>) -> Result<()> {
-    let entries = match dir {
+fn list(given: Option<&Path>) -> Result<()> {
+    let dir = given.unwrap_or(Path::new("cases"));
+    let entries = match given {
         Some(d) if d.exists() && !d.is_dir() => {
             return Err(Error::invalid(
                 "list DIR",
@@ -165,12 +166,11 @@ fn list(dir: Option<&Path>) -> Result<()> {
             ))
         }
         Some(d) => cases::case_paths(d)?,
-        None => cases::case_paths(Path::new("cases")).unwrap_or_else(|e| {
+        None => cases::case_paths(dir).unwrap_or_else(|e| {
             eprintln!("{e}");
             Vec::new()
         }),
     };
-    let dir = dir.unwrap_or(Path::new("cases"));
     if entries.is_empty() && dir.is_dir() {
         eprintln!("no case files (*.toml) in {}", dir.display());
     }

@@ -83,10 +83,10 @@ impl Discretisation {
     }
 
     /// Γ_C tagged by a mesh file for a body against the plane `x_d = 0` below it (its own frame):
-    /// refuses a face whose outward normal points away from the plane, `n_d > FACING` (side
-    /// faces and a sphere's equator, `n_d ≈ 0`, pass), and a vertex of the cells below Γ_C's
-    /// lowest vertex by more than `PENETRATION_TOLERANCE · h` (the body would meet the plane
-    /// outside Γ_C and sink through it).
+    /// refuses a group whose every face points away from the plane, `n_d > FACING` (side faces
+    /// and a sphere's equator, `n_d ≈ 0`, face it; so does a whole boundary), and a vertex of the
+    /// cells off Γ_C as low as Γ_C's lowest vertex, within `PENETRATION_TOLERANCE · h`, or lower
+    /// (the body would meet the plane outside Γ_C and sink through it).
     pub fn check_tagged_contact(&self) -> Result<()> {
         let (d, mesh) = (self.dim(), &self.mesh);
         let refuse = |message: String| {
@@ -121,14 +121,18 @@ impl Discretisation {
             .fold(f64::INFINITY, f64::min);
         // A vertex outside Γ_C as low as its lowest meets the plane with it (the bottom corner
         // of a square whose left side alone is Γ_C) and sinks through.
-        let in_contact: std::collections::HashSet<usize> =
-            self.contact_vertices.iter().map(|v| v.0).collect();
+        // The vertices of Γ_C come in increasing node index.
+        let off_contact = |i: usize| {
+            self.contact_vertices
+                .binary_search_by_key(&i, |v| v.0)
+                .is_err()
+        };
         let below = mesh
             .vertex_flags()
             .iter()
             .enumerate()
             .filter(|&(i, &v)| {
-                v && !in_contact.contains(&i) && height(i) < lowest + PENETRATION_TOLERANCE * mesh.h
+                v && off_contact(i) && height(i) < lowest + PENETRATION_TOLERANCE * mesh.h
             })
             .map(|(i, _)| i)
             .min_by(|&a, &b| height(a).total_cmp(&height(b)));

@@ -8,7 +8,7 @@
 //! of the inertial velocity v.
 
 use crate::error::Result;
-use crate::linalg::{self, SpMat};
+use crate::linalg::SpMat;
 
 /// The mass operator of a space.
 pub trait Inertia: std::fmt::Debug + Send + Sync {
@@ -49,21 +49,9 @@ pub trait Inertia: std::fmt::Debug + Send + Sync {
     fn velocity_dof(&self, u_dof: usize) -> usize;
 
     /// The displacement dofs whose row of M is zero (e.g. the Γ_C normal dofs of mass
-    /// redistribution); none for the mixed mass, whose M has no zero row.
-    fn massless(&self) -> Vec<bool> {
-        match self.sparse() {
-            Some(m) => {
-                let mut massless = vec![true; m.nrows()];
-                for (i, _, v) in linalg::triplets(m) {
-                    if v != 0.0 {
-                        massless[i] = false;
-                    }
-                }
-                massless
-            }
-            None => vec![false; self.kinetic().nrows()],
-        }
-    }
+    /// redistribution), one flag per displacement dof; none for the mixed mass, whose M has
+    /// no zero row.
+    fn massless(&self) -> Vec<bool>;
 }
 
 /// The factored step matrix of [`Inertia::step_operator`]; solves for `(U, w)`.

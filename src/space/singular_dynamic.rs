@@ -120,6 +120,11 @@ impl Inertia for SaddleMass {
     fn velocity_dof(&self, u_dof: usize) -> usize {
         self.dof_of.get(u_dof).copied().flatten().unwrap_or(u_dof)
     }
+
+    /// None: `M = Bᵀ C⁻¹ B` has no zero row (B's columns are the displacement dofs).
+    fn massless(&self) -> Vec<bool> {
+        vec![false; self.b.ncols()]
+    }
 }
 
 /// The factored saddle system of [`SaddleMass::step_operator`], solving for `(U, w)`.

@@ -59,6 +59,16 @@ impl Inertia for SparseMass {
     fn velocity_dof(&self, u_dof: usize) -> usize {
         u_dof
     }
+
+    fn massless(&self) -> Vec<bool> {
+        let mut massless = vec![true; self.m.nrows()];
+        for (i, _, v) in linalg::triplets(&self.m) {
+            if v != 0.0 {
+                massless[i] = false;
+            }
+        }
+        massless
+    }
 }
 
 /// `m M + k K` factored by Cholesky; the inertial variables are the displacements.

@@ -218,21 +218,22 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
             let (tx, rx) = mpsc::sync_channel::<Snapshot>(SAMPLE_QUEUE);
             let (recycle, recycled) = mpsc::channel();
             let (problem, field) = (&problem, &field);
+            let master: Option<Vec<(usize, usize, f64)>> =
+                bodies.map(|b| b.master_probe()).transpose()?.map(|w| {
+                    w.into_iter()
+                        .map(|(j, n)| (j, problem.inertia.velocity_dof(j), n))
+                        .collect()
+                });
             let mut probe = Probe {
                 b_row: problem.contact.gap_row(problem.probe.contact),
                 energy: problem.energy_form(),
                 impact: impact.as_ref(),
                 translation: case.momentum().map(|t| (t, vec![0.0; problem.n()])),
-                master: bodies.map(|b| b.master_probe()).transpose()?.map(|w| {
-                    w.into_iter()
-                        .map(|(j, n)| (j, problem.inertia.velocity_dof(j), n))
-                        .collect()
-                }),
+                mean: MeanVelocity::new(problem, master.as_deref()),
+                master,
                 slide: friction.then(|| slide_direction(problem)),
                 spin: case.spin().map(|spin| SpinProbe::new(problem, spin)),
-                mean: MeanVelocity::default(),
             };
-            probe.mean = MeanVelocity::new(problem, probe.master.as_deref());
             let masses = probe
                 .slide
                 .as_ref()
@@ -513,9 +514,10 @@ struct Probe<'a> {
 /// The velocity of a probe point whose dofs carry no mass (mass redistribution's Γ_C normal
 /// dofs): no dynamics fixes their velocity variable, which a scheme's update (Newmark's
 /// `v_{n+1} = vₙ + Δt ((1 − γ) aₙ + γ a_{n+1})` with the Newmark a of the displacements) carries
-/// with an odd–even oscillation (the bar's end read +½ while it moved at −½). Such a point's velocity is the mean over the last step,
-/// `(u_n − u_{n−1}) / (t_n − t_{n−1})`; the first sample keeps the initial velocity.
-#[derive(Debug, Default)]
+/// with an odd–even oscillation (the bar's end read +½ while it moved at −½). Such a point's
+/// velocity is the mean over the last step, `(u_n − u_{n−1}) / (t_n − t_{n−1})`; the first
+/// sample keeps the initial velocity.
+#[derive(Debug)]
 struct MeanVelocity {
     /// Whether the probe's dof, and any of the master point's dofs, are massless.
     probe: bool,
@@ -526,11 +528,7 @@ struct MeanVelocity {
 
 impl MeanVelocity {
     fn new(problem: &Problem, master: Option<&[(usize, usize, f64)]>) -> Self {
-        // The mixed mass has no zero row; its `massless` runs over the H_h dofs.
-        let massless = match problem.inertia.sparse() {
-            Some(_) => problem.inertia.massless(),
-            None => vec![false; problem.n()],
-        };
+        let massless = problem.inertia.massless();
         MeanVelocity {
             probe: massless[problem.probe.u_dof],
             master: master.is_some_and(|w| w.iter().any(|&(j, _, _)| massless[j])),
