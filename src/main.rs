@@ -397,6 +397,7 @@ fn main_result(cli: Cli) -> Result<()> {
                 t_end,
                 friction,
                 incidence,
+                origin: None,
             };
             let path = case;
             let file = cases::CaseFile::read(&path).map_err(|e| e.in_case_file(&path))?;
@@ -420,7 +421,7 @@ fn main_result(cli: Cli) -> Result<()> {
                 std::io::stdout().is_terminal(),
                 fields.as_ref(),
             )
-            .map_err(|e| e.from_case_input(&path))?;
+            .map_err(|e| overrides.named(e).from_case_input(&path))?;
             run::write_run(&out, &result)?;
             let s = &result.summary;
             let m = &s.metrics;

@@ -352,24 +352,62 @@ fn without_friction_the_top_block_keeps_v0() {
         .is_none());
 }
 
-/// Mass elimination takes the mass of every element touching Γ_C: the 3D lower block (two
-/// layers of cells, one on the plane, one under the upper block) keeps none, and the step
-/// matrix is singular on its rigid motions. It failed in the factorisation with a non-positive
-/// pivot; it is refused naming the space and what to change.
+/// A space that leaves a floating body without inertia along a direction is refused naming
+/// the space and what to change: the step matrix is singular on that rigid translation, and
+/// failed in the factorisation with a non-positive pivot. Mass elimination takes the mass of
+/// every element touching Γ_C: the 3D lower block (two layers of cells, one on the plane, one
+/// under the upper block) keeps none. Mass redistribution (normal inertia) and modified
+/// quadrature (all of it) take it from the contact nodes: a lower block of one layer of cells
+/// (`--elements 2`: 2 × 2 × 1 on 3 × 3 × 1) has nothing else.
 #[test]
-fn a_body_left_without_mass_is_refused() {
-    let o = dyncontact::cases::Overrides {
-        space: Some("mass_elimination".into()),
-        ..Default::default()
+fn a_body_left_without_inertia_is_refused() {
+    for (space, elements) in [
+        ("mass_elimination", None),
+        ("mass_redistribution", Some(2)),
+        ("modified_quadrature", Some(2)),
+    ] {
+        let o = dyncontact::cases::Overrides {
+            space: Some(space.into()),
+            elements,
+            ..Default::default()
+        };
+        let path = std::path::Path::new("cases/slide_on_block3d.toml");
+        let e = match dyncontact::cases::load(path, &o) {
+            Err(e) => e,
+            Ok(case) => match dyncontact::study::run::run(case.as_ref()) {
+                Err(e) => e,
+                Ok(_) => panic!("{space}: a body without inertia ran"),
+            },
+        };
+        let e = e.to_string();
+        assert!(
+            e.contains(space) && e.contains("without inertia") && e.contains("mesh.elements"),
+            "{e}"
+        );
+    }
+}
+
+/// `--elements N` refines a pair whose body 2 has its own `[master.mesh]` in the file's
+/// proportion: slide_on_block3d's 4 and 6 cells stay as they are under `--elements 4` (it used
+/// to set body 2's to 4 too: one layer of cells), and double under `--elements 8`.
+#[test]
+fn elements_refine_both_bodies_in_proportion() {
+    let path = std::path::Path::new("cases/slide_on_block3d.toml");
+    let text = std::fs::read_to_string(path).unwrap();
+    let dofs = |text: &str, elements: Option<usize>| {
+        let o = dyncontact::cases::Overrides {
+            elements,
+            ..Default::default()
+        };
+        let case = dyncontact::cases::parse(text, path, &o).unwrap();
+        let space = dyncontact::space::by_name("standard").unwrap();
+        case.problem(space.as_ref()).unwrap().n()
     };
-    let case =
-        dyncontact::cases::load(std::path::Path::new("cases/slide_on_block3d.toml"), &o).unwrap();
-    let Err(e) = dyncontact::study::run::run(case.as_ref()) else {
-        panic!("a body without mass ran");
-    };
-    let e = e.to_string();
-    assert!(
-        e.contains("mass_elimination") && e.contains("without mass"),
-        "{e}"
-    );
+    assert!(text.contains("elements = 4 ") && text.contains("elements = 6 "));
+    let doubled = text
+        .replace("elements = 4 ", "elements = 8 ")
+        .replace("elements = 6 ", "elements = 12 ");
+    assert_eq!(dofs(&text, Some(4)), dofs(&text, None));
+    assert_eq!(dofs(&text, Some(8)), dofs(&doubled, None));
+    assert_ne!(dofs(&text, Some(8)), dofs(&text, None));
 }

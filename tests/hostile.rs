@@ -291,6 +291,21 @@ fn a_tangled_gmsh_mesh_is_refused_naming_the_cells() {
         &run(args(&mesh)),
         &["fan.msh", "element 1 of group `contact` has node 1 twice"],
     );
+    // A file cut short: the section left open is named (it was "Unknown error occurred"), and
+    // the parser's place in the file in one line, without its dump of up to 700 bytes in hex.
+    let text = fan_msh([0.5, 0.5]);
+    std::fs::write(&mesh, text.replace("$EndElements\n", "")).unwrap();
+    assert_clear_error(
+        &run(args(&mesh)),
+        &["fan.msh", "section $Elements has no $EndElements line"],
+    );
+    std::fs::write(&mesh, &text[..text.find("$EndNodes").unwrap() - 8]).unwrap();
+    let out = run(args(&mesh));
+    assert_clear_error(
+        &out,
+        &["fan.msh", "not a readable MSH 4.1 file: in node section"],
+    );
+    assert!(!stderr(&out).contains("Hex dump"), "{}", stderr(&out));
 }
 
 /// A Gmsh `contact` group the plane below cannot meet was accepted and the body sank through
@@ -437,7 +452,10 @@ fn extreme_values_are_named_short_and_run_time_errors_name_the_case_file() {
     let out = spring(&["--beta", "1e-300"]);
     assert_clear_error(&out, &["`run.dt`: 0.01 (", "beta=1e-300", "k = 1.000e-304"]);
     let out = spring(&["--dt", "1e-300", "--t-end", "1e-299"]);
-    assert_clear_error(&out, &["`run.dt`: 1e-300 (", "k = 0 (it underflows)"]);
+    assert_clear_error(
+        &out,
+        &["`run.dt (--dt)`: 1e-300 (", "k = 0 (it underflows)"],
+    );
     let out = run(
         &[
             "cases/slide2d.toml",
@@ -482,7 +500,7 @@ fn a_final_time_off_the_time_grid_is_refused_naming_both_values() {
     assert_clear_error(
         &out,
         &[
-            "run.t_end`: 1.0",
+            "run.t_end (--t-end)`: 1.0",
             "run.dt = 0.4",
             "t_end/dt = 2.5",
             "0.8 or 1.2",
@@ -619,6 +637,51 @@ fn sweep_tables_that_would_ignore_a_field_or_misname_a_file_are_refused_first() 
             "{from}: ran first"
         );
     }
+    // A sweep's elements or degree out of range: every run was recorded `failed` naming
+    // `mesh.elements` or `mesh.degree` (not the table's field), and the sweep exited 0.
+    for (from, to, needle) in [
+        (
+            "elements = 20\ndt = 0.025",
+            "elements = 0\ndt = 0.025",
+            "`sweep.orders.elements`: 0 (must be ≥ 1)",
+        ),
+        (
+            "singular_dynamic = 2, modified",
+            "singular_dynamic = 7, modified",
+            "`sweep.orders.degree`: { singular_dynamic = 7 } (a degree must be 1 or 2)",
+        ),
+    ] {
+        let bad = edited(dir.path(), "bar1d.toml", &[(from, to)]);
+        let out = dyncontact(&["sweep", &bad, "--quick", "--out", o]);
+        assert_clear_error(&out, &["bar1d.toml", needle]);
+        assert!(!stderr(&out).contains("running"), "{}", stderr(&out));
+    }
+}
+
+/// A run's failure in a sweep names the field as the sweep set it: `run.dt (sweep.orders.dt)`
+/// (it said `run.dt`: 0.025 where the case file's `[run] dt` is 0.0125), as the command line's
+/// `run.dt (--dt)`.
+#[test]
+fn a_sweep_run_s_failure_names_the_sweep_s_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let out = dyncontact(&["sweep", "cases/bar1d.toml", "--quick", "--out", o]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let records = std::fs::read_to_string(dir.path().join("o/records.csv")).unwrap();
+    let reasons: Vec<&str> = records
+        .lines()
+        .filter(|l| l.contains(",failed,") && l.contains("modified_quadrature-central"))
+        .collect();
+    assert!(!reasons.is_empty(), "{records}");
+    for r in reasons {
+        assert!(
+            r.contains("`run.dt (sweep.orders.dt)`: 0.0") && r.contains("(unstable time step"),
+            "{r}"
+        );
+    }
+    let out = dyncontact(&["run", "cases/bar1d.toml", "--dt", "-1", "--out", o]);
+    assert_clear_error(&out, &["`run.dt (--dt)`: -1.0"]);
 }
 
 /// `merge` reads back only what a sweep writes: every shard once (one of two shards was "11 runs
@@ -1248,7 +1311,7 @@ fn a_space_that_would_leave_the_bar_without_mass_is_refused() {
             &out,
             &[
                 "cases/bar1d.toml: ",
-                "mesh.elements`: 1",
+                "mesh.elements (--elements)`: 1",
                 space,
                 "without mass",
             ],
@@ -1331,7 +1394,7 @@ fn a_final_time_too_far_is_blamed_on_t_end() {
             "--out",
             o,
         ]);
-        assert_clear_error(&out, &["invalid value for `run.t_end`", why]);
+        assert_clear_error(&out, &["invalid value for `run.t_end (--t-end)`", why]);
     }
 }
 
@@ -1489,7 +1552,7 @@ fn what_the_time_scale_cannot_measure_is_named_before_it() {
     let huge = ["--elements", "99999999999", "--dt", "0.05", "--t-end", "1"];
     assert_clear_error(
         &run("cases/bar1d.toml", &huge),
-        &["`mesh.elements`: 99999999999", "GiB"],
+        &["`mesh.elements (--elements)`: 99999999999", "GiB"],
     );
     let overflow = edited(
         dir.path(),
@@ -1603,7 +1666,7 @@ fn fields_are_named_as_in_the_case_file() {
     let run = |args: &[&str]| run(args, &["--out", o]);
     for (flag, needle) in [
         ("--beta", "`run.beta`: 0.0"),
-        ("--elements", "`mesh.elements`: 0"),
+        ("--elements", "`mesh.elements (--elements)`: 0"),
     ] {
         let out = run(&[
             "cases/bar1d.toml",
@@ -1625,7 +1688,7 @@ fn fields_are_named_as_in_the_case_file() {
     // Bar 2's element count in floating point: a huge degree or length ratio cannot wrap it
     // (lengths 1 and 1e30 wrapped to 39 elements and panicked indexing the exact solution).
     let degree = run(&["cases/two_bars.toml", "--degree", "1000000000000"]);
-    assert_clear_error(&degree, &["`mesh.degree`: 1000000000000"]);
+    assert_clear_error(&degree, &["`mesh.degree (--degree)`: 1000000000000"]);
     let long = edited(
         dir.path(),
         "two_bars.toml",
@@ -2344,4 +2407,51 @@ fn a_replaced_mesh_file_is_a_new_case_for_the_journal() {
     bytes.extend_from_slice(b"\n");
     std::fs::write(&mesh, bytes).unwrap();
     assert_ne!(before, hash(), "the mesh file changed, the key did not");
+}
+
+/// Memory estimates far beyond the machine are printed short (`2.2e10 GiB`, was
+/// `23737550107687714816.0 GiB`).
+#[test]
+fn an_absurd_memory_estimate_is_printed_short() {
+    if !Path::new("/proc/meminfo").exists() {
+        return; // no estimate of the memory available: the run would start
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let out = run(
+        &["cases/block3d.toml", "--elements", "100000000"],
+        &["--out", o.to_str().unwrap()],
+    );
+    assert_clear_error(
+        &out,
+        &["`mesh.elements (--elements)`: 100000000", "e1", "GiB"],
+    );
+    let longest = stderr(&out)
+        .split(|c: char| !c.is_ascii_digit())
+        .map(str::len)
+        .max();
+    assert!(longest < Some(10), "{}", stderr(&out));
+}
+
+/// A loss of energy is the scheme's dissipation, never a divergence: roll2d at a slope of
+/// nearly π/2, without friction, starts with E(0) = 7.7e-8 (the potential of gravity's normal
+/// component) and backward Euler takes more than 100 E(0) from the fall; it was stopped as
+/// "diverged at step 1".
+#[test]
+fn dissipation_far_beyond_a_small_initial_energy_is_not_a_divergence() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let steep = edited(
+        dir.path(),
+        "roll2d.toml",
+        &[
+            ("slope = 0.3", "slope = 1.5707963"),
+            ("friction = 0.2", "friction = 0.0"),
+        ],
+    );
+    let out = run(
+        &[&steep, "--elements", "4", "--dt", "0.01", "--t-end", "0.8"],
+        &["--out", o.to_str().unwrap()],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
 }

@@ -281,8 +281,8 @@ fn gmsh_spheres_keep_the_invariants() {
 }
 
 /// A two-body Gmsh file is refused with the file and the group named: a one-body mesh (no
-/// `body1`), a missing `contact2`, a Γ_C group on the other body's cells; and so are a second
-/// file for body 2 and a `contact.group` (the groups' names are fixed).
+/// `body1`), a missing `contact2`, a Γ_C group on the other body's cells, bodies offset across
+/// e_d; and so are a second file for body 2 and a `contact.group` (the groups' names are fixed).
 #[test]
 fn bad_two_body_meshes_are_refused() {
     let error = |text: &str, o: Overrides| match parse(text, Path::new("cases/x.toml"), &o) {
@@ -319,6 +319,33 @@ fn bad_two_body_meshes_are_refused() {
         e.contains("swapped.msh")
             && e.contains("group `contact1` has node")
             && e.contains("`body1`"),
+        "{e}"
+    );
+    // Body 2 (the nodes below the middle of the file's extent) moved by half a radius across
+    // e_d: an oblique impact, which the pair's head-on Hertz reference does not describe.
+    let coordinates = |l: &str| {
+        let v: Vec<f64> = l
+            .split_whitespace()
+            .filter_map(|t| t.parse().ok())
+            .collect();
+        (v.len() == 3 && l.contains('.')).then_some(v)
+    };
+    let middle = {
+        let ys: Vec<f64> = text.lines().filter_map(coordinates).map(|v| v[1]).collect();
+        0.5 * (ys.iter().copied().fold(f64::INFINITY, f64::min)
+            + ys.iter().copied().fold(f64::NEG_INFINITY, f64::max))
+    };
+    let (mut nodes, mut off) = (false, String::new());
+    for l in text.lines() {
+        nodes = (nodes || l == "$Nodes") && l != "$EndNodes";
+        match coordinates(l).filter(|v| nodes && v[1] < middle) {
+            Some(v) => off += &format!("{} {} {}\n", v[0] + 0.5, v[1], v[2]),
+            None => off += &format!("{l}\n"),
+        }
+    }
+    let e = error(&discs, gmsh(&write("off.msh", off)));
+    assert!(
+        e.contains("off.msh") && e.contains("head on") && e.contains("differ by -5.000e-1"),
         "{e}"
     );
     let second = discs.clone() + "\n[master.mesh]\nfile = \"meshes/two_discs.msh\"\n";

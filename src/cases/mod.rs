@@ -499,6 +499,19 @@ pub struct Overrides {
     /// `--incidence`: the angle θ (degrees, from the normal) of a body case's initial velocity,
     /// its speed kept: `velocity = −V cos θ`, `tangential_velocity = V sin θ`.
     pub incidence: Option<f64>,
+    /// Where the values came from, for the errors that name them: the command line (None) or a
+    /// table of the case file (`[[sweep]]`, `[[history]]`).
+    pub origin: Option<Origin>,
+}
+
+/// A table of a case file that set a run's overrides: its fields as errors name them
+/// ([`Overrides::named`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Origin {
+    /// `sweep.orders`, `history.energy`.
+    pub table: String,
+    /// The table's field that gave `dt`: `dt` (a sweep, or its `refinements`), `dts`.
+    pub dt: &'static str,
 }
 
 impl Overrides {
@@ -536,6 +549,27 @@ impl Overrides {
         run.options = options;
         run.dt = self.dt.unwrap_or(run.dt);
         run.t_end = self.t_end.unwrap_or(run.t_end);
+    }
+
+    /// `e` with the field it names followed by where the overrides set its value, when they did:
+    /// `run.dt (--dt)` from the command line, `run.dt (sweep.orders.dt)` from a sweep, whose
+    /// values are not the case file's `[run] dt`.
+    pub fn named(&self, e: Error) -> Error {
+        e.with_field(|field| {
+            let key = match field {
+                "run.dt" if self.dt.is_some() => "dt",
+                "run.t_end" if self.t_end.is_some() => "t_end",
+                "mesh.elements" if self.elements.is_some() => "elements",
+                "mesh.degree" if self.degree.is_some() => "degree",
+                "contact.friction" if self.friction.is_some() => "friction",
+                _ => return field.to_string(),
+            };
+            match &self.origin {
+                None => format!("{field} (--{})", key.replace('_', "-")),
+                Some(o) if key == "dt" => format!("{field} ({}.{})", o.table, o.dt),
+                Some(o) => format!("{field} ({}.{key})", o.table),
+            }
+        })
     }
 
     /// `self` with parameter `name` set (tests and benches: `Overrides::default().with("beta", 0.5)`).
@@ -733,6 +767,10 @@ impl CaseFile {
     /// The validated case with `overrides` applied (a mesh override given to a case without
     /// that kind of mesh is refused: it would be ignored).
     pub fn build(&self, overrides: &Overrides) -> Result<Box<dyn Case>> {
+        self.build_named(overrides).map_err(|e| overrides.named(e))
+    }
+
+    fn build_named(&self, overrides: &Overrides) -> Result<Box<dyn Case>> {
         self.check_overrides(overrides)?;
         Ok(match &self.spec {
             Spec::Bar1d(s) => Box::new(bar1d::Bar1d::from_spec(s.clone(), overrides)?),

@@ -15,7 +15,7 @@
 //! # or: refinements = [{ elements = 20, dt = 0.025 }, { elements = 40, dt = 0.0125 }]
 //! ```
 
-use super::{Options, Overrides};
+use super::{Options, Origin, Overrides};
 use crate::error::{positive, Error, Result};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -38,7 +38,11 @@ impl HistorySpec {
             elements: self.elements,
             dt,
         };
-        combination(space, &self.scheme, &self.degree, level, None)
+        let origin = Origin {
+            table: self.field(""),
+            dt: "dts",
+        };
+        combination(space, &self.scheme, &self.degree, level, None, origin)
     }
 
     /// The table (`history.<name>`, or `history` unnamed), or its field `f` when not empty, as
@@ -185,8 +189,8 @@ impl SweepSpec {
 
     /// Refuses a table that would run nothing (no space, no scheme, no level kept by `--quick`)
     /// or ignore what it says: a name that is not a file-name part (it names the report's
-    /// files), a space listed twice, a degree for a space it does not run, `refinements` beside
-    /// the fields they replace.
+    /// files), a space listed twice, a degree for a space it does not run or other than 1 or 2,
+    /// `refinements` beside the fields they replace.
     fn validate(&self) -> Result<()> {
         let field = |f: &str| self.field(f);
         crate::util::check_name("sweep.name", &self.name)?;
@@ -200,6 +204,13 @@ impl SweepSpec {
             return Err(Error::invalid(field("spaces"), twice, "listed twice"));
         }
         unused_degree(&self.degree, &self.spaces, field)?;
+        if let Some((space, d)) = self.degree.iter().find(|(_, d)| !(1..=2).contains(*d)) {
+            return Err(Error::invalid(
+                field("degree"),
+                format_args!("{{ {space} = {d} }}"),
+                "a degree must be 1 or 2",
+            ));
+        }
         if let Some(twice) = crate::util::first_repeated(&self.refinements) {
             let elements = twice.elements.map(|n| format!("elements = {n}, "));
             return Err(Error::invalid(
@@ -236,7 +247,8 @@ impl SweepSpec {
         Ok(())
     }
 
-    /// The refinement levels (the first `quick_levels` with `quick`), validated.
+    /// The refinement levels (the first `quick_levels` with `quick`), validated (dt > 0, at
+    /// least one element).
     pub fn refinements(&self, quick: bool) -> Result<Vec<Refinement>> {
         self.validate()?;
         let field = |f: &str| self.field(f);
@@ -290,8 +302,16 @@ impl SweepSpec {
         if levels.is_empty() {
             return Err(Error::invalid(field("levels"), 0, "at least one level"));
         }
+        let given = if self.refinements.is_empty() {
+            ["dt", "elements"]
+        } else {
+            ["refinements"; 2]
+        };
         for r in &levels {
-            positive(&field("dt"), r.dt)?;
+            positive(&field(given[0]), r.dt)?;
+            if r.elements == Some(0) {
+                return Err(Error::invalid(field(given[1]), 0, "must be ≥ 1"));
+            }
         }
         if quick {
             levels.truncate(self.quick_levels);
@@ -301,9 +321,17 @@ impl SweepSpec {
 
     /// Command-line-like overrides of one combination.
     pub fn overrides(&self, space: &str, choice: &SchemeChoice, level: Refinement) -> Overrides {
+        let origin = Origin {
+            table: format!("sweep.{}", self.name),
+            dt: if !self.refinements.is_empty() {
+                "refinements"
+            } else {
+                "dt"
+            },
+        };
         Overrides {
             friction: self.friction,
-            ..combination(space, choice, &self.degree, level, self.t_end)
+            ..combination(space, choice, &self.degree, level, self.t_end, origin)
         }
     }
 }
@@ -335,6 +363,7 @@ fn combination(
     degree: &BTreeMap<String, usize>,
     level: Refinement,
     t_end: Option<f64>,
+    origin: Origin,
 ) -> Overrides {
     Overrides {
         space: Some(space.to_string()),
@@ -348,5 +377,6 @@ fn combination(
         t_end,
         friction: None,
         incidence: None,
+        origin: Some(origin),
     }
 }

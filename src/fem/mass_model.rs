@@ -2,7 +2,7 @@
 //! the contact normal dofs and, for degree-2 displacements, the velocity space H_h of the
 //! singular dynamic method. Produced by a discretisation ([`super::discretisation`]).
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::fem::assembly::assemble_square;
 use crate::linalg::SpMat;
 use nalgebra::DMatrix;
@@ -84,4 +84,75 @@ impl MassModel {
     pub fn touches_contact(&self, el: &ElementMass) -> bool {
         (0..el.dofs.len()).any(|c| (0..el.x.len()).any(|a| self.is_contact(el, c, a)))
     }
+
+    /// Refuses the mass `m` that space `space` assembled when it leaves a floating body
+    /// (elements connected through their dofs, none of them fixed) without inertia along a
+    /// displacement component c: the rigid translation t along c has `tᵀ m t` ≤ 1e-12 of the
+    /// consistent mass's, and `m M + k K` is singular on it (slide_on_block3d's lower block of
+    /// one layer of cells, its every node on Γ_C, failed in the factorisation with a
+    /// non-positive pivot under mass redistribution and modified quadrature).
+    pub fn check_inertia(&self, space: &str, m: &SpMat) -> Result<()> {
+        let comps = self.elements.first().map_or(1, |el| el.dofs.len());
+        let mut parent: Vec<usize> = (0..self.n_dofs).collect();
+        let mut comp = vec![0; self.n_dofs];
+        for el in &self.elements {
+            let mut dofs = el
+                .dofs
+                .iter()
+                .enumerate()
+                .flat_map(|(c, d)| d.iter().flatten().map(move |&i| (c, i)));
+            let Some((c0, first)) = dofs.next() else {
+                continue;
+            };
+            comp[first] = c0;
+            for (c, i) in dofs {
+                comp[i] = c;
+                let (a, b) = (root(&mut parent, i), root(&mut parent, first));
+                parent[a] = b;
+            }
+        }
+        // Per body (root): elements, some fixed dof, the translations' consistent mass and m's.
+        let mut body = std::collections::BTreeMap::<usize, (usize, bool, f64, [f64; 3])>::new();
+        for el in &self.elements {
+            let Some(&first) = el.dofs.iter().flatten().flatten().next() else {
+                continue;
+            };
+            let b = body.entry(root(&mut parent, first)).or_default();
+            b.0 += 1;
+            b.1 |= el.dofs.iter().flatten().any(Option::is_none);
+            b.2 += el.mass.sum();
+        }
+        for (i, _, v) in crate::linalg::triplets(m) {
+            if let Some(b) = body.get_mut(&root(&mut parent, i)) {
+                b.3[comp[i]] += v;
+            }
+        }
+        let massless = body
+            .values()
+            .filter(|b| !b.1)
+            .find_map(|&(elements, _, full, kept)| {
+                (0..comps)
+                    .find(|&c| kept[c] <= 1e-12 * full)
+                    .map(|c| (elements, c, full))
+            });
+        match massless {
+            Some((elements, c, full)) => Err(Error::Unsupported(format!(
+                "space `{space}` leaves a free body without inertia along e_{}: the \
+                 rigid translation of its {elements} elements has no mass (its consistent mass: \
+                 {full:.3e}), so the step matrix m M + k K is singular on it; use more elements \
+                 across the body (mesh.elements, master.mesh.elements), or the standard mass",
+                c + 1
+            ))),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The root of `i` in the union–find forest `parent` (paths halved on the way).
+fn root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
 }

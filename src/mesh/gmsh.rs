@@ -54,6 +54,41 @@ struct File {
     names: Vec<(usize, i32, String)>,
 }
 
+/// mshio's parse error on one line, without its hex dump of the bytes (up to 700 of them):
+/// `in element section, in element entity block (2 of 2): an invalid element definition …`;
+/// for its "Unknown error" (a section not closed), the section whose `$End…` line is missing.
+fn parse_error(e: &mshio::MshParserError<&[u8]>, bytes: &[u8]) -> String {
+    let text = e.to_string();
+    let text = text.split("Hex dump").next().unwrap_or_default();
+    let mut parts: Vec<&str> = text
+        .lines()
+        .map(|l| l.trim().trim_end_matches(','))
+        .filter(|l| !l.is_empty() && *l != "During parsing...")
+        .collect();
+    let last = parts.pop().unwrap_or_default();
+    let last = last.trim_start_matches("an error occurred: ");
+    let text = match parts.is_empty() {
+        true => last.to_string(),
+        false => format!("{}: {last}", parts.join(", ")),
+    };
+    if !text.contains("Unknown error") {
+        return text;
+    }
+    let lines: Vec<&[u8]> = bytes
+        .split(|&b| b == b'\n')
+        .map(|l| l.trim_ascii())
+        .collect();
+    let unclosed = lines.iter().enumerate().find_map(|(i, l)| {
+        let name = l.strip_prefix(b"$").filter(|n| !n.starts_with(b"End"))?;
+        let end = [b"$End".as_slice(), name].concat();
+        (!lines[i + 1..].contains(&end.as_slice())).then(|| String::from_utf8_lossy(name))
+    });
+    match unclosed {
+        Some(name) => format!("section ${name} has no $End{name} line (a truncated file?)"),
+        None => text,
+    }
+}
+
 impl File {
     /// Reads and checks the file (version, sections, dimension of the cells).
     fn open(path: &Path, dim: usize) -> Result<Self> {
@@ -64,8 +99,12 @@ impl File {
         };
         let bytes = crate::input::MESH_FILE.read(path)?;
         check_version(&bytes).map_err(&err)?;
-        let msh = mshio::parse_msh_bytes(bytes.as_slice())
-            .map_err(|e| err(format!("not a readable MSH 4.1 file: {e}")))?;
+        let msh = mshio::parse_msh_bytes(bytes.as_slice()).map_err(|e| {
+            err(format!(
+                "not a readable MSH 4.1 file: {}",
+                parse_error(&e, &bytes)
+            ))
+        })?;
         let (coords, tag_index, node_tags) = nodes(&msh.data, &bytes).map_err(&err)?;
         let elements = msh
             .data

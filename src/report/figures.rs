@@ -8,7 +8,7 @@ use crate::cases::sweep::HistorySpec;
 use crate::cases::{Case, CaseFile};
 use crate::error::Result;
 use crate::output::plot::{loglog_plot, time_panels, time_plot, LogLog, Series, Style};
-use crate::study::jobs::BLOWUP_FACTOR;
+use crate::study::jobs::blowup;
 use crate::study::jobs::{RunRecord, Status};
 use crate::study::orders::{self, reference_slope, Order};
 use crate::study::run::{method_label, run, RunResult, Summary};
@@ -449,9 +449,9 @@ const VS_TIME: [VsTime; 2] = [
     },
 ];
 
-/// One solid curve of `get` against time per labelled run, in palette order.
 /// One curve of `get` against time per labelled run, styled by `style(k)`; a run whose energy
-/// exceeded [`BLOWUP_FACTOR`] × E(0) is marked diverged (drawn clipped, said in its label).
+/// rose by more than 100 E(0) ([`blowup`]) is marked diverged (drawn clipped, said in its
+/// label).
 fn time_curves(
     runs: &[(String, RunResult)],
     get: fn(&Row) -> f64,
@@ -462,7 +462,7 @@ fn time_curves(
         .map(|(k, (label, r))| {
             let pts = r.rows.iter().map(|x| (x.t, get(x))).collect();
             let mut s = Series::new(label.clone(), pts, style(k));
-            if r.summary.metrics.energy_drift > BLOWUP_FACTOR {
+            if blowup(&r.rows).is_some() {
                 s.diverged = true;
                 s.label.push_str(" (diverged: drawn clipped)");
             }

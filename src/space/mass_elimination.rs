@@ -8,7 +8,7 @@
 
 use super::sparse_mass::SparseMass;
 use super::{MassModel, Space};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::param::Entry;
 use crate::problem::Inertia;
 use nalgebra::DMatrix;
@@ -30,62 +30,14 @@ impl Space for MassElimination {
     }
 
     fn inertia(&self, model: &MassModel) -> Result<Box<dyn Inertia>> {
-        check_mass_left(model)?;
-        Ok(SparseMass::boxed(model.assemble(|el, _| {
+        let m = model.assemble(|el, _| {
             if model.touches_contact(el) {
                 DMatrix::zeros(el.mass.nrows(), el.mass.ncols())
             } else {
                 el.mass.clone()
             }
-        })?))
-    }
-}
-
-/// Refuses a floating body (elements connected through their dofs, none of them fixed) whose
-/// every element touches Γ_C: this space leaves it no mass, and `m M + k K` is singular on its
-/// rigid motions (slide_on_block3d's lower block, two layers of cells between the plane and the
-/// upper block, failed in the factorisation with a non-positive pivot).
-fn check_mass_left(model: &MassModel) -> Result<()> {
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    let mut parent: Vec<usize> = (0..model.n_dofs).collect();
-    let dofs = |el: &crate::fem::mass_model::ElementMass| {
-        el.dofs
-            .iter()
-            .flatten()
-            .flatten()
-            .copied()
-            .collect::<Vec<usize>>()
-    };
-    for el in &model.elements {
-        let d = dofs(el);
-        for w in d.windows(2) {
-            let (a, b) = (root(&mut parent, w[0]), root(&mut parent, w[1]));
-            parent[a] = b;
-        }
-    }
-    // Per body (root): (elements, some fixed dof, some element off Γ_C).
-    let mut body = vec![(0usize, false, false); model.n_dofs];
-    for el in &model.elements {
-        let Some(&first) = dofs(el).first() else {
-            continue;
-        };
-        let b = &mut body[root(&mut parent, first)];
-        b.0 += 1;
-        b.1 |= el.dofs.iter().flatten().any(Option::is_none);
-        b.2 |= !model.touches_contact(el);
-    }
-    match body.iter().find(|b| b.0 > 0 && !b.1 && !b.2) {
-        Some(&(elements, ..)) => Err(Error::Unsupported(format!(
-            "space `mass_elimination` leaves a free body without mass: each of its {elements} \
-             elements touches Γ_C, so the step matrix is singular on its rigid motions; use more \
-             elements across it (mesh.elements, master.mesh.elements) or mass_redistribution"
-        ))),
-        None => Ok(()),
+        })?;
+        model.check_inertia(self.name(), &m)?;
+        Ok(SparseMass::boxed(m))
     }
 }

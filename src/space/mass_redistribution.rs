@@ -44,7 +44,7 @@ impl Space for MassRedistribution {
     }
 
     fn inertia(&self, model: &MassModel) -> Result<Box<dyn Inertia>> {
-        Ok(SparseMass::boxed(model.assemble(|el, comp| {
+        let m = model.assemble(|el, comp| {
             let massless: Vec<bool> = (0..el.x.len())
                 .map(|a| model.is_contact(el, comp, a))
                 .collect();
@@ -53,7 +53,9 @@ impl Space for MassRedistribution {
             } else {
                 el.mass.clone()
             }
-        })?))
+        })?;
+        model.check_inertia(self.name(), &m)?;
+        Ok(SparseMass::boxed(m))
     }
 }
 

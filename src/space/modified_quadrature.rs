@@ -46,7 +46,7 @@ impl Space for ModifiedQuadrature {
     }
 
     fn inertia(&self, model: &MassModel) -> Result<Box<dyn Inertia>> {
-        Ok(SparseMass::boxed(model.assemble(|el, _| {
+        let m = model.assemble(|el, _| {
             let contact: Vec<bool> = (0..el.x.len())
                 .map(|a| (0..el.dofs.len()).any(|c| model.is_contact(el, c, a)))
                 .collect();
@@ -55,7 +55,9 @@ impl Space for ModifiedQuadrature {
             } else {
                 el.mass.clone()
             }
-        })?))
+        })?;
+        model.check_inertia(self.name(), &m)?;
+        Ok(SparseMass::boxed(m))
     }
 }
 
