@@ -13,8 +13,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// Palette for several series (matplotlib's tab10, then two of ColorBrewer's Dark2).
-pub const PALETTE: [RGBColor; 12] = [
+/// Palette for several series (matplotlib's tab10, then ColorBrewer's Dark2 but its magenta
+/// and grey, and black): 16 colours, so that the 13 schemes each have one of their own.
+pub const PALETTE: [RGBColor; 16] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -26,6 +27,10 @@ pub const PALETTE: [RGBColor; 12] = [
     RGBColor(127, 127, 127),
     RGBColor(188, 189, 34),
     RGBColor(27, 158, 119),
+    RGBColor(0, 0, 0),
+    RGBColor(117, 112, 179),
+    RGBColor(230, 171, 2),
+    RGBColor(102, 166, 30),
     RGBColor(166, 118, 29),
 ];
 

@@ -355,7 +355,13 @@ pub fn figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> 
                     .iter()
                     .filter_map(|x| x.friction.map(|f| (x.t, f.0)))
                     .collect();
-                let style = style::space_variant(space, k);
+                // Styled by scheme: the panels (one per space) share the first one's legend.
+                let scheme = &sweep.schemes[k].scheme;
+                let variant = sweep.schemes[..k]
+                    .iter()
+                    .filter(|c| &c.scheme == scheme)
+                    .count();
+                let style = style::scheme(scheme, variant);
                 (!points.is_empty()).then(|| {
                     (
                         space.clone(),
@@ -398,8 +404,8 @@ pub fn figures(file: &CaseFile, out: &Path, quick: bool) -> Result<Vec<Figure>> 
             ),
             caption: format!(
                 "{kind} (sweep `{}`, {setting}dt = {}): the centre of mass's velocity along the \
-                 plane against time, one panel and colour per space, one dash per scheme (the \
-                 refused schemes have no curve); the rigid slide `max(v₀ − μgt, 0)` dashed (μ = {}, \
+                 plane against time, one panel per space, one colour and mark per scheme as in \
+                 every figure (the refused schemes have no curve); the rigid slide `max(v₀ − μgt, 0)` dashed (μ = {}, \
                  t* = {}).",
                 sweep.name,
                 level.dt,

@@ -392,6 +392,10 @@ const FILES: &[(&str, &str)] = &[
          named by the run's `key` in `summary.csv`",
     ),
     ("cases/", "the case files the report ran, as they were"),
+    (
+        "README.md",
+        "the repository's note on this directory (when the report is written into `reports/`)",
+    ),
 ];
 
 /// Every data file of the report directory, linked, with what it holds.

@@ -277,7 +277,8 @@ pub fn figures(out: &Path, records: &[RunRecord]) -> Result<Vec<Figure>> {
                  probe, one panel per space, one mark per scheme; the best corner is bottom \
                  left. Values at or below {FLOOR:.0e} (no penetration, energy conserved to \
                  round-off) are drawn at {FLOOR:.0e}; a scheme missing from a panel did not \
-                 finish or was refused."
+                 finish, was refused, or has its mark under another's at the same values \
+                 (several at {FLOOR:.0e}): the table *Schemes compared* holds every value."
             ),
         });
     }

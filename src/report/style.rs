@@ -38,12 +38,6 @@ pub fn space(name: &str) -> Style {
     nth(place(crate::space::SPACES.iter().map(|e| e.name), name), 0)
 }
 
-/// A space's style with the `k`-th dash: one colour per space, one dash per scheme (the `k`-th
-/// of a figure).
-pub fn space_variant(name: &str, k: usize) -> Style {
-    variant(space(name), k)
-}
-
 /// The style of the `k`-th parameter set of a scheme in a figure (colours after the spaces').
 pub fn scheme(name: &str, k: usize) -> Style {
     let n = crate::space::SPACES.len();
@@ -94,6 +88,14 @@ mod tests {
         colours.extend(crate::time::SCHEMES.iter().map(|e| scheme(e.name, 0).color));
         let distinct = crate::util::unique(colours.iter().map(|c| (c.0, c.1, c.2)));
         assert_eq!(distinct.len(), colours.len().min(PALETTE.len()));
+        // The schemes' figures show schemes only: each has a colour of its own there (newmark
+        // and hauret_le_tallec were both brown, told apart by a small mark).
+        let schemes = &colours[crate::space::SPACES.len()..];
+        assert!(schemes.len() <= PALETTE.len());
+        assert_eq!(
+            crate::util::unique(schemes.iter().map(|c| (c.0, c.1, c.2))).len(),
+            schemes.len()
+        );
         // Within a registry, no two entries share both colour and mark (newmark and
         // hauret_le_tallec did, PALETTE.len() apart).
         let looks: Vec<String> = crate::time::SCHEMES
