@@ -39,16 +39,19 @@ pub fn content_hash(bytes: &[u8]) -> String {
 
 /// Memory this process can still allocate (bytes): the least of what the system can give
 /// (`MemAvailable` of `/proc/meminfo`), what its address-space limit leaves (`ulimit -v`: the
-/// soft `Max address space` of `/proc/self/limits` less `VmSize` and [`THREAD_ADDRESS_SPACE`]
-/// per thread) and what its memory cgroups leave ([`cgroup_memory_left`]: a batch scheduler's
-/// limit); `None` where none can be read.
+/// soft `Max address space` of `/proc/self/limits` less `VmSize` and what the threads will
+/// reserve beyond it, [`thread_reserve`]) and what its memory cgroups leave
+/// ([`cgroup_memory_left`]: a batch scheduler's limit); `None` where none can be read.
 pub fn available_memory() -> Option<f64> {
     let system = proc_field("/proc/meminfo", "MemAvailable:").map(|kib| kib * 1024.0);
     // The soft `Max address space` (bytes; `None` when unlimited).
-    let threads = rayon::current_num_threads() as f64 + 1.0;
+    let status = |f: &str| proc_field("/proc/self/status", f).map(|kib| kib * 1024.0);
     let address_space = proc_field("/proc/self/limits", "Max address space")
-        .zip(proc_field("/proc/self/status", "VmSize:"))
-        .map(|(limit, kib)| (limit - kib * 1024.0 - threads * THREAD_ADDRESS_SPACE).max(0.0));
+        .zip(status("VmSize:"))
+        .map(|(limit, size)| {
+            let reserved = size - status("VmRSS:").unwrap_or(size);
+            (limit - size - thread_reserve(reserved)).max(0.0)
+        });
     [system, address_space, cgroup_memory_left()]
         .into_iter()
         .flatten()
@@ -109,6 +112,21 @@ fn number_in(path: &str) -> Option<f64> {
     std::fs::read_to_string(path).ok()?.trim().parse().ok()
 }
 
+/// The address space the run's threads (the workers and the sampling one) will still reserve
+/// beyond their resident memory, [`THREAD_ADDRESS_SPACE`] each less what the process holds so
+/// already (`reserved`, `VmSize` less `VmRSS`: the threads started so far). Counted from
+/// `RAYON_NUM_THREADS` or the cores, without starting the pool (which would panic if a thread
+/// could not start).
+fn thread_reserve(reserved: f64) -> f64 {
+    let workers = std::env::var("RAYON_NUM_THREADS")
+        .ok()
+        .and_then(|t| t.trim().parse::<usize>().ok())
+        .filter(|&t| t > 0)
+        .or_else(|| std::thread::available_parallelism().ok().map(|n| n.get()))
+        .unwrap_or(1);
+    ((workers + 1) as f64 * THREAD_ADDRESS_SPACE - reserved).max(0.0)
+}
+
 /// Refuses, before anything is allocated, a size `value` of `field` whose estimated memory
 /// `bytes` exceeds the memory available.
 pub fn check_memory(field: &str, value: impl std::fmt::Debug, bytes: f64) -> crate::Result<()> {
@@ -117,10 +135,10 @@ pub fn check_memory(field: &str, value: impl std::fmt::Debug, bytes: f64) -> cra
             field,
             value,
             &format!(
-                "the run would need about {} GiB, more than the {} GiB available \
-                 (free memory, ulimit -v and the memory cgroups' limits)",
-                gib(bytes),
-                gib(avail)
+                "the run would need about {}, more than the {} available (free memory, ulimit \
+                 -v and the memory cgroups' limits)",
+                memory(bytes),
+                memory(avail)
             ),
         )),
         _ => Ok(()),
@@ -136,11 +154,13 @@ const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 /// aborted in an allocation instead.
 const THREAD_ADDRESS_SPACE: f64 = 128.0 * 1024.0 * 1024.0;
 
-/// `bytes` in GiB, one decimal, in exponent form from 10⁴ GiB (`2.4e19` for an absurd count).
-fn gib(bytes: f64) -> String {
+/// `bytes` in MiB below 0.1 GiB, else in GiB with one decimal, in exponent form from 10⁴ GiB
+/// (`2.4e19 GiB` for an absurd count).
+fn memory(bytes: f64) -> String {
     match bytes / GIB {
-        g if g < 1e4 => format!("{g:.1}"),
-        g => format!("{g:.1e}"),
+        g if g < 0.1 => format!("{:.0} MiB", g * 1024.0),
+        g if g < 1e4 => format!("{g:.1} GiB"),
+        g => format!("{g:.1e} GiB"),
     }
 }
 

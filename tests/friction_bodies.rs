@@ -389,7 +389,8 @@ fn a_body_left_without_inertia_is_refused() {
 
 /// `--elements N` refines a pair whose body 2 has its own `[master.mesh]` in the file's
 /// proportion: slide_on_block3d's 4 and 6 cells stay as they are under `--elements 4` (it used
-/// to set body 2's to 4 too: one layer of cells), and double under `--elements 8`.
+/// to set body 2's to 4 too: one layer of cells), and double under `--elements 8`; a count left
+/// to its default is N.
 #[test]
 fn elements_refine_both_bodies_in_proportion() {
     let path = std::path::Path::new("cases/slide_on_block3d.toml");
@@ -410,4 +411,8 @@ fn elements_refine_both_bodies_in_proportion() {
     assert_eq!(dofs(&text, Some(4)), dofs(&text, None));
     assert_eq!(dofs(&text, Some(8)), dofs(&doubled, None));
     assert_ne!(dofs(&text, Some(8)), dofs(&text, None));
+    // Body 2 without a count of its own takes N itself (it was given 1 cell).
+    let unset = text.replace("elements = 6 ", "# elements = 6 ");
+    let equal = text.replace("elements = 6 ", "elements = 4 ");
+    assert_eq!(dofs(&unset, Some(8)), dofs(&equal, Some(8)));
 }

@@ -379,3 +379,35 @@ fn the_inputs_the_property_found_are_refused_naming_their_field() {
         assert!(e.contains(field), "{case} {path:?}: {e}");
     }
 }
+
+/// An error about a value the overrides set names where it came from: the command line's flag,
+/// or the table's field (a sweep's `refinements` gives both dt and elements, a history's `dts`
+/// the time step); a field the overrides did not set is named as it is.
+#[test]
+fn an_overridden_field_is_named_where_it_was_set() {
+    use dyncontact::cases::Origin;
+    use dyncontact::error::Error;
+    let named = |o: &Overrides, field: &str| o.named(Error::invalid(field, 1, "x")).to_string();
+    let cli = Overrides {
+        elements: Some(1),
+        dt: Some(1.0),
+        ..Default::default()
+    };
+    assert!(named(&cli, "mesh.elements").contains("`mesh.elements (--elements)`"));
+    assert!(named(&cli, "run.dt").contains("`run.dt (--dt)`"));
+    assert!(named(&cli, "run.t_end").contains("`run.t_end`"));
+    let table = |table: &str, levels| Overrides {
+        origin: Some(Origin {
+            table: table.into(),
+            levels,
+        }),
+        ..cli.clone()
+    };
+    let refined = table("sweep.r", ["refinements"; 2]);
+    assert!(named(&refined, "mesh.elements").contains("(sweep.r.refinements)`"));
+    assert!(named(&refined, "run.dt").contains("(sweep.r.refinements)`"));
+    let sweep = table("sweep.orders", ["dt", "elements"]);
+    assert!(named(&sweep, "mesh.elements").contains("(sweep.orders.elements)`"));
+    let history = table("history.energy", ["dts", "elements"]);
+    assert!(named(&history, "run.dt").contains("`run.dt (history.energy.dts)`"));
+}

@@ -510,8 +510,9 @@ pub struct Overrides {
 pub struct Origin {
     /// `sweep.orders`, `history.energy`.
     pub table: String,
-    /// The table's field that gave `dt`: `dt` (a sweep, or its `refinements`), `dts`.
-    pub dt: &'static str,
+    /// The table's fields that gave `dt` and `elements`: `dt` and `elements`, or `refinements`
+    /// for both; a history's `dts`.
+    pub levels: [&'static str; 2],
 }
 
 impl Overrides {
@@ -566,8 +567,14 @@ impl Overrides {
             };
             match &self.origin {
                 None => format!("{field} (--{})", key.replace('_', "-")),
-                Some(o) if key == "dt" => format!("{field} ({}.{})", o.table, o.dt),
-                Some(o) => format!("{field} ({}.{key})", o.table),
+                Some(o) => {
+                    let name = match key {
+                        "dt" => o.levels[0],
+                        "elements" => o.levels[1],
+                        key => key,
+                    };
+                    format!("{field} ({}.{name})", o.table)
+                }
             }
         })
     }

@@ -40,7 +40,7 @@ impl HistorySpec {
         };
         let origin = Origin {
             table: self.field(""),
-            dt: "dts",
+            levels: ["dts", "elements"],
         };
         combination(space, &self.scheme, &self.degree, level, None, origin)
     }
@@ -323,10 +323,9 @@ impl SweepSpec {
     pub fn overrides(&self, space: &str, choice: &SchemeChoice, level: Refinement) -> Overrides {
         let origin = Origin {
             table: format!("sweep.{}", self.name),
-            dt: if !self.refinements.is_empty() {
-                "refinements"
-            } else {
-                "dt"
+            levels: match self.refinements.is_empty() {
+                true => ["dt", "elements"],
+                false => ["refinements"; 2],
             },
         };
         Overrides {

@@ -68,7 +68,10 @@ pub const KINDS: &[(&str, usize)] = &[
 /// `e1`: slide_on_block3d's 4 and 6 stay 4 and 6 under `--elements 4`, and become 8 and 12
 /// under `--elements 8`.
 fn proportional(n: usize, e1: usize, e2: usize) -> usize {
-    ((n as f64 * e2 as f64 / e1.max(1) as f64).round() as usize).max(1)
+    if e1 == 0 || e2 == 0 {
+        return n; // a count left to its default: no proportion to keep
+    }
+    ((n as f64 * e2 as f64 / e1 as f64).round() as usize).max(1)
 }
 
 /// The estimated [`Size`] of a pair, for the scheduler: twice body 1's generated mesh (body 2
@@ -235,7 +238,13 @@ fn gmsh_bodies(
     )?;
     let [(lo1, hi1), (lo2, hi2)] = [0, 1].map(|b| extent(&meshes[b], dim - 1));
     check_placement(file, dim, [(lo1, hi1), (lo2, hi2)])?;
-    check_alignment(file, dim, &meshes)?;
+    let shape2 = m
+        .geometry
+        .as_ref()
+        .map_or(&spec.geometry.shape, |g| &g.shape);
+    if spec.geometry.shape != "box" && shape2 != "box" {
+        check_alignment(file, dim, &meshes)?;
+    }
     let along = |z: f64| std::array::from_fn(|k| if k == dim - 1 { z } else { 0.0 });
     let shifts = [along(lo1), along(hi2)];
     let [m1, m2]: [Mesh; 2] = meshes
@@ -272,14 +281,16 @@ fn check_placement(file: &std::path::Path, dim: usize, extent: [(f64, f64); 2]) 
 }
 
 /// Largest offset across e_d between the centres of the two bodies' extents, relative to the
-/// narrower body's width, that [`check_alignment`] lets pass (a mesh's rounding, not an
-/// oblique impact).
-const ALIGNMENT_TOLERANCE: f64 = 1e-3;
+/// narrower body's width, that [`check_alignment`] lets pass: the impact's obliquity, about
+/// the offset over R₁ + R₂, stays below 1°, and the extent of a polygonal disc of boundary
+/// spacing h is off centre by at most h²/(16R), 1e-2 of its width up to h ≈ 0.56 R.
+const ALIGNMENT_TOLERANCE: f64 = 1e-2;
 
-/// Refuses a file whose bodies are offset across e_d: the pair meets along e_d, head on, as
+/// Refuses a file of two round bodies offset across e_d: the pair meets along e_d, head on, as
 /// its Hertz reference assumes (body 2 shifted by half a radius ran and compared its 1.9 % and
 /// 7.7 % radius and pressure errors with the head-on reference). Compares the centres of each
-/// body's extent along every x_k, k < d.
+/// body's extent along every x_k, k < d. (A round body on a box meets it head on wherever it
+/// lands on the box's face: not checked.)
 fn check_alignment(file: &std::path::Path, dim: usize, meshes: &[Mesh]) -> Result<()> {
     for k in 0..dim - 1 {
         let [(lo1, hi1), (lo2, hi2)] = [0, 1].map(|b| extent(&meshes[b], k));

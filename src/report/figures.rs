@@ -450,8 +450,8 @@ const VS_TIME: [VsTime; 2] = [
 ];
 
 /// One curve of `get` against time per labelled run, styled by `style(k)`; a run whose energy
-/// rose by more than 100 E(0) ([`blowup`]) is marked diverged (drawn clipped, said in its
-/// label).
+/// moved from E(0) by more than 100 |E(0)| ([`blowup`]) is marked diverged (drawn clipped,
+/// said in its label).
 fn time_curves(
     runs: &[(String, RunResult)],
     get: fn(&Row) -> f64,

@@ -181,8 +181,8 @@ fn failures_section(d: &mut Doc, records: &[RunRecord]) {
         return;
     }
     d.para(
-        "A run is `diverged` when its state is not finite or its energy exceeds 100 E(0), \
-         `failed` on an error (an unstable time step, a solver failure), `unsupported` when the \
+        "A run is `diverged` when its state is not finite or its energy moved from E(0) by more \
+         than 100 |E(0)|, `failed` on an error (an unstable time step, a solver failure), `unsupported` when the \
          combination is not defined. One row per series (case, sweep, space, scheme) and \
          status: the first such level and its reason; `summary.csv` has every run.",
     );

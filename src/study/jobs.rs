@@ -18,16 +18,21 @@ use std::sync::Arc;
 /// A run whose energy exceeds this multiple of E(0) is recorded as diverged.
 pub const BLOWUP_FACTOR: f64 = 100.0;
 
-/// Why a finished run counts as diverged: its energy rose above E(0) by more than
-/// [`BLOWUP_FACTOR`] × |E(0)| (by more than [`BLOWUP_FACTOR`] when E(0) = 0;
-/// [`metrics::first_blowup`]), as `(step, time, reason)` at the first step it did.
+/// Why a finished run counts as diverged: its energy left [`BLOWUP_FACTOR`] × E(0) (by more
+/// than [`BLOWUP_FACTOR`] when E(0) = 0; [`metrics::first_blowup`]), as `(step, time, reason)`
+/// at the first step it did.
 pub fn blowup(rows: &[Row]) -> Option<(usize, f64, String)> {
     let e0 = rows.first()?.energy;
     metrics::first_blowup(rows, BLOWUP_FACTOR).map(|(step, t, drift)| {
         let reason = if e0 == 0.0 {
-            format!("the energy exceeded {BLOWUP_FACTOR} from E(0) = 0 (E = {drift:.3e})")
+            format!(
+                "the energy moved from E(0) = 0 by more than {BLOWUP_FACTOR} (|E| = {drift:.3e})"
+            )
         } else {
-            format!("the energy exceeded {BLOWUP_FACTOR} × E(0) (E − E(0) = {drift:.3e} |E(0)|)")
+            format!(
+                "the energy moved from E(0) by more than {BLOWUP_FACTOR} |E(0)| (|E − E(0)| = \
+                 {drift:.3e} |E(0)|)"
+            )
         };
         (step, t, reason)
     })

@@ -235,18 +235,19 @@ fn relative(x: f64, scale: f64) -> f64 {
     }
 }
 
-/// The first sample whose energy exceeds E(0) by more than `factor` × |E(0)| (by more than
-/// `factor` when E(0) = 0, as `energy_drift`): `(sample, t, (E − E(0)) / |E(0)|)`. Every step is
-/// a sample, so the sample is the step. Only a gain counts: an instability feeds the kinetic and
-/// elastic energies, while a loss is the scheme's dissipation, which can exceed 100 |E(0)| when
-/// E(0) is nearly 0 (roll2d at a slope of nearly π/2: the potential of the normal component of
-/// gravity, 7.7e-8, against what backward Euler takes from the fall).
+/// The first sample whose energy departs from E(0) by more than `factor` × |E(0)| (by more than
+/// `factor` when E(0) = 0, as `energy_drift`): `(sample, t, |E − E(0)| / |E(0)|)`. Every step is a
+/// sample, so the sample is the step. A loss counts too: the energy holds −Fᵀu and Nitsche's
+/// −½γσ², so an unstable mode can drive it to −∞ (hertz2d, Nitsche γ₀ = 3.5, backward Euler:
+/// −2.2e146). A scheme's dissipation can exceed 100 |E(0)| only from an E(0) near 0 against
+/// the work of the loads (roll2d at a slope of nearly π/2: E(0) = 7.7e-8), which the samples
+/// do not hold: such a run is reported diverged.
 pub fn first_blowup(rows: &[Row], factor: f64) -> Option<(usize, f64, f64)> {
     let e0 = rows.first()?.energy;
     rows.iter()
         .enumerate()
-        .map(|(i, r)| (i, r.t, relative(r.energy - e0, e0)))
-        .find(|(_, _, gain)| *gain > factor)
+        .map(|(i, r)| (i, r.t, relative((r.energy - e0).abs(), e0)))
+        .find(|(_, _, drift)| *drift > factor)
 }
 
 fn total_variation(x: impl Iterator<Item = f64>) -> f64 {
@@ -603,8 +604,8 @@ mod tests {
             .collect()
     }
 
-    /// The first step whose energy rose by more than `factor` × E(0), relative as
-    /// `energy_drift` (absolute from E(0) = 0), and the same maximum as `energy_drift` past it.
+    /// The first step whose energy left `factor` × E(0), relative as `energy_drift` (absolute
+    /// from E(0) = 0), and the same maximum as `energy_drift` past it.
     #[test]
     fn a_blow_up_is_dated_at_its_first_step() {
         let grown = rows(&[2.0, 3.0, 150.0, 1e9, 4.0]);
@@ -616,12 +617,9 @@ mod tests {
         let m = compute(&grown, &[], 1.0, true, None);
         assert!(m.energy_drift > 100.0 && first_blowup(&grown, m.energy_drift).is_none());
         assert_eq!(
-            first_blowup(&rows(&[0.0, 50.0, 150.0]), 100.0),
+            first_blowup(&rows(&[0.0, 50.0, -150.0]), 100.0),
             Some((2, 2.0, 150.0))
         );
-        // A loss is dissipation, however large against a small E(0).
-        assert_eq!(first_blowup(&rows(&[0.0, 50.0, -150.0]), 100.0), None);
-        assert_eq!(first_blowup(&rows(&[1e-7, 0.0, -1.0]), 100.0), None);
         assert_eq!(first_blowup(&[], 100.0), None);
     }
 
