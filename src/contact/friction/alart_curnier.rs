@@ -12,6 +12,22 @@
 //! `n̂ = RV_T/‖RV_T‖`, `Γ = (I − n̂n̂ᵀ)/‖RV_T‖`; open: `B = I`), a dense LU on the points in the
 //! step, with a backtracking line search on ‖F‖. ρ = 1/W_NN per point (Siconos' scaled ρ: an
 //! unscaled ρ stalls when W is far from 1). Stops at `‖F‖ ≤` [`super::TOLERANCE`] · scale.
+//!
+//! **Past μ_c = W_NN/|W_NT|.** On a slipping point the Jacobian's block is
+//! `[[ρW_NN, ρW_NT], [μσ(ρW_NN − 1), 1 + μσρW_NT]]` (2D, σ = −n̂), of determinant
+//! `ρ(W_NN − μσW_NT)` whatever ρ: along the slip the normal reaction presses the point in
+//! (`∂u_N/∂r_N = W_NN − μσW_NT`), and beyond `μ_c = W_NN/|W_NT|` the slip branch of that point
+//! turns over. ‖F‖ then has stationary points that are no solution, where the line search finds
+//! no decrease: a block's corner node couples by `W_NT/W_NN = 0.31` on slide2d at h = ⅛
+//! (μ_c = 3.2), and from μ = 4 Newton cycled between them for its 100 iterations (taking the full
+//! step where the line search failed). The law still has a solution for every μ (W SPD, Acary,
+//! Cadoux, Lemaréchal & Malick 2011), and at μ = 0 it is the LCP's, unique. So when Newton fails
+//! at μ (the iterations above, unchanged where they converge), the solution is followed from
+//! μ = 0: Newton from the last solution at μ_{k+1} = μ_k + Δ, Δ doubled after a stage that
+//! converges and quartered after one that stalls (the first min(μ, 1)/64, at most
+//! [`CONTINUATION_ITERATIONS`] in all). Where the path folds back (a stage of 10⁻⁶ μ stalls:
+//! met between two bodies at large μ, not on a rigid plane), Newton at μ from the fold's solution
+//! is the last try; then it fails, naming the μ reached.
 
 use super::{Coulomb, Local, TOLERANCE};
 use crate::contact::{SolveInfo, Solver};
@@ -21,8 +37,19 @@ use nalgebra::{DMatrix, DVector};
 /// Newton iterations allowed per step.
 pub const MAX_ITERATIONS: usize = 100;
 
-/// Halvings of the line search before the full step is taken anyway.
+/// Halvings of the line search before Newton is said to stall.
 const LINE_SEARCH: usize = 30;
+
+/// Newton iterations allowed to the continuation in μ, all its stages together.
+pub const CONTINUATION_ITERATIONS: usize = 2000;
+
+/// The continuation's first stage, a fraction of min(μ, 1) (doubled after each stage that
+/// converges, quartered after one that does not): μ is a slope, the cone's opening reaches 45°
+/// at 1, and the law's character changes below some μ of order one (`docs/methods.md`).
+const FIRST_STEP: f64 = 1.0 / 64.0;
+
+/// The shortest stage of the continuation, relative to the μ it reaches.
+const SMALLEST_STEP: f64 = 1e-6;
 
 /// The Alart–Curnier function of one point and its generalized Jacobians (`dim` ≤ 3 rows).
 #[derive(Debug, Clone, Copy, Default)]
@@ -169,41 +196,107 @@ impl Solver for AlartCurnier {
         q: &[f64],
         lambda: &mut [f64],
     ) -> Result<SolveInfo, SolverError> {
-        let (loc, mut r) = Local::gather(&self.law, d, q, lambda, self.compliance.as_deref())?;
-        let (mut norm, mut done) = loc.converged(&r, TOLERANCE);
-        for it in 0..MAX_ITERATIONS {
-            if done {
-                return Ok(loc.finish(&self.law, &r, lambda, it));
-            }
-            let (f, jac) = residual(&loc, &r, true);
-            let singular = SolverError::Singular {
-                method: "alart_curnier",
-            };
-            let jac = jac.ok_or(singular.clone())?;
-            let dr = jac.lu().solve(&(-f)).ok_or(singular)?;
-            let mut t = 1.0;
-            for _ in 0..LINE_SEARCH {
-                let trial = residual(&loc, &(&r + t * &dr), false).0.norm();
-                if trial <= (1.0 - 1e-4 * t) * norm {
-                    break;
-                }
-                t *= 0.5;
-            }
-            if t < 0.5f64.powi(LINE_SEARCH as i32 - 1) {
-                t = 1.0;
-            }
-            r += t * &dr;
-            (norm, done) = loc.converged(&r, TOLERANCE);
+        let (mut loc, start) = Local::gather(&self.law, d, q, lambda, self.compliance.as_deref())?;
+        let (mut r, mut iterations) = (start.clone(), 0);
+        if newton(&loc, &mut r, &mut iterations, MAX_ITERATIONS, true) == Outcome::Converged {
+            return Ok(loc.finish(&self.law, &r, lambda, iterations));
         }
-        if done {
-            return Ok(loc.finish(&self.law, &r, lambda, MAX_ITERATIONS));
+        // Newton stalled (or ran out): follow the solution from μ = 0 instead.
+        let plain = iterations;
+        let target = loc.mu.clone();
+        let top = target.iter().copied().fold(0.0, f64::max);
+        let (mut mu, mut step) = (0.0, FIRST_STEP * top.min(1.0));
+        r.copy_from(&start);
+        loc.mu.fill(0.0);
+        let mut reached = newton(&loc, &mut r, &mut iterations, plain + MAX_ITERATIONS, false);
+        while reached == Outcome::Converged && mu < top {
+            let next = (mu + step).min(top);
+            for (m, m0) in loc.mu.iter_mut().zip(&target) {
+                *m = m0 * (next / top);
+            }
+            let mut trial = r.clone();
+            let limit = (iterations + MAX_ITERATIONS).min(plain + CONTINUATION_ITERATIONS);
+            reached = newton(&loc, &mut trial, &mut iterations, limit, false);
+            if reached == Outcome::Converged {
+                (mu, r, step) = (next, trial, 2.0 * step);
+            } else if step > SMALLEST_STEP * next && iterations < plain + CONTINUATION_ITERATIONS {
+                // Too far along the path for Newton from the last solution: a shorter stage.
+                (reached, step) = (Outcome::Converged, 0.25 * step);
+            } else {
+                // The path folds back here: Newton at μ itself from its last solution.
+                loc.mu.copy_from_slice(&target);
+                let limit = iterations + MAX_ITERATIONS;
+                reached = newton(&loc, &mut r, &mut iterations, limit, true);
+                break;
+            }
         }
+        if reached == Outcome::Converged {
+            return Ok(loc.finish(&self.law, &r, lambda, iterations));
+        }
+        let norm = loc.converged(&r, TOLERANCE).0;
         Err(loc.not_converged(
             ("alart_curnier", &self.law),
             &r,
             (norm, TOLERANCE),
-            format!("{MAX_ITERATIONS} Newton iterations"),
+            format!(
+                "{iterations} Newton iterations ({plain} at μ, then a continuation from μ = 0 \
+                 that stopped at μ = {mu:.6e})"
+            ),
         ))
+    }
+}
+
+/// How a run of [`newton`] ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Outcome {
+    /// Within the tolerance.
+    Converged,
+    /// The line search found no decrease of ‖F‖: a stationary point of ‖F‖ that is no solution.
+    Stalled,
+    /// `limit` iterations reached.
+    Exhausted,
+}
+
+/// Newton's iterations on `loc` from `r` until converged, stalled, or `iterations` reaches
+/// `limit` (`iterations` counts them). With `full`, a step the line search cannot shorten into
+/// a decrease is taken whole (the iterate leaves the stationary point, ‖F‖ may grow) instead of
+/// stopping there.
+fn newton(
+    loc: &Local,
+    r: &mut DVector<f64>,
+    iterations: &mut usize,
+    limit: usize,
+    full: bool,
+) -> Outcome {
+    loop {
+        if loc.converged(r, TOLERANCE).1 {
+            return Outcome::Converged;
+        }
+        if *iterations >= limit {
+            return Outcome::Exhausted;
+        }
+        let (f, jac) = residual(loc, r, true);
+        let norm = f.norm();
+        // A singular Jacobian (a slip branch at the edge of existence) gives no direction.
+        let Some(dr) = jac.and_then(|j| j.lu().solve(&(-f))) else {
+            return Outcome::Stalled;
+        };
+        *iterations += 1;
+        let mut t = 1.0;
+        for _ in 0..LINE_SEARCH {
+            let trial = residual(loc, &(&*r + t * &dr), false).0.norm();
+            if trial <= (1.0 - 1e-4 * t) * norm {
+                *r += t * &dr;
+                break;
+            }
+            t *= 0.5;
+        }
+        if t < 0.5f64.powi(LINE_SEARCH as i32 - 1) {
+            if !full {
+                return Outcome::Stalled;
+            }
+            *r += &dr;
+        }
     }
 }
 
@@ -268,6 +361,36 @@ mod tests {
                     "μ {mu}, q {q:?}: {r:?}"
                 );
             }
+        }
+    }
+
+    /// Past μ_c of a corner-like point the Newton iterations stall (its slip branch turns over);
+    /// the continuation from μ = 0 reaches the solution: up to μ = 4 the unique one, point 0
+    /// sticking, `r_0 = −W_00⁻¹ q_0`, point 1 open; beyond, one of three.
+    #[test]
+    fn a_corner_past_its_critical_mu_is_solved_along_mu() {
+        for mu in [1.0, 2.0, 3.0, 4.0, 10.0, 100.0, 1e8] {
+            let (law, w, q) = super::super::testing::corner(mu);
+            let mut r = [0.0; 4];
+            let info = AlartCurnier::new(law).solve(&w, &q, &mut r).unwrap();
+            let det = w[(0, 0)] * w[(2, 2)] - w[(0, 2)] * w[(2, 0)];
+            let stick = [
+                -(w[(2, 2)] * q[0] - w[(0, 2)] * q[2]) / det,
+                -(w[(0, 0)] * q[2] - w[(2, 0)] * q[0]) / det,
+            ];
+            let err = (r[0] - stick[0])
+                .abs()
+                .max((r[2] - stick[1]).abs())
+                .max(r[1].abs())
+                .max(r[3].abs());
+            if mu <= 4.0 {
+                assert!(err < 1e-10, "μ {mu}: {r:?}, {} iterations", info.iterations);
+            }
+            if mu == 4.0 {
+                // Newton alone cycled: the continuation took over.
+                assert!(info.iterations > MAX_ITERATIONS, "{}", info.iterations);
+            }
+            assert!(violation(&law, &w, &q, &r) < 1e-10, "μ {mu}: {r:?}");
         }
     }
 

@@ -22,6 +22,17 @@
 //! slide3d level off at 1.0e-7 and 1.2e-7), and it fails otherwise: the fixed point is not
 //! guaranteed to converge (the problem is not convex). Without friction every round is the
 //! LCP's QP: it is solved once, as `clarabel` solves it ([`DeSaxce::signorini`]).
+//!
+//! **Its reach in μ.** At a slipping point the rounds converge linearly, and ever more slowly
+//! as μ grows: the shift's error shrinks by `κ = μ(μW_TT − σW_TN)/(W_NN − 2μσW_NT + μ²W_TT)`
+//! per round (σ the slip's direction, the point's Delassus block), μ²/(1 + μ²) or more where
+//! `W_TT ≥ W_NN` and `W_NT = 0` (slide2d's nodes but its corners), 0.9 at μ = 3, 0.99 at 10,
+//! and κ > 1 past μ_c = W_NN/|W_NT| (the slip branch turns over, [`super::alart_curnier`]).
+//! Its [`MAX_FIXED_POINT`] rounds cannot bring a residual of order one to [`TOLERANCE`] above
+//! [`largest_mu`] = 2.39: a larger μ is refused up front (`--friction`, [`super::by_name`]).
+//! Below it the corner coupling can still defeat it (slide2d at h = ⅛ fails from μ = 1.5, slide3d
+//! at h = ¼ from 1.2; at h = ½ it converges to 2.39): it fails then, naming μ. Every failure
+//! names the solver and μ (`contact.friction`), Clarabel's too (`DeSaxce::named`).
 
 use super::{Coulomb, Local};
 use crate::contact::clarabel_qp::{upper, ClarabelQp, Units};
@@ -42,6 +53,19 @@ pub const FLOOR: f64 = 1e-6;
 
 /// Fixed-point rounds allowed per step.
 pub const MAX_FIXED_POINT: usize = 100;
+
+/// The largest μ the fixed point can take: `κ^MAX_FIXED_POINT ≤ TOLERANCE` for
+/// `κ = μ²/(1 + μ²)`, 2.39. At a slipping point the rounds are an affine map of the shift with
+/// slope `κ = μ(μW_TT − σW_TN)/(W_NN − 2μσW_NT + μ²W_TT)` (σ the slip's direction; the point's
+/// Delassus block), so the residual shrinks by κ per round; with `W_NT = 0` and `W_TT ≥ W_NN`
+/// (slide2d's nodes but its corners: `W_TT/W_NN` = 1.00 to 1.04) κ ≥ μ²/(1 + μ²), and above
+/// this μ the rounds allowed cannot bring a residual of order one to the tolerance (measured:
+/// 7.5e-5 after 100 rounds at μ = 3 on slide2d, h = ½, against κ¹⁰⁰ = 2.7e-5), whatever the
+/// interior point's accuracy. It is refused up front ([`super::by_name`]).
+pub fn largest_mu() -> f64 {
+    let kappa = TOLERANCE.powf(1.0 / MAX_FIXED_POINT as f64);
+    (kappa / (1.0 - kappa)).sqrt()
+}
 
 /// Rounds in a row without a 1 % decrease of the best residual after which the fixed point
 /// stops: it has reached the interior point's accuracy.
@@ -182,21 +206,56 @@ impl Solver for DeSaxce {
         lambda: &mut [f64],
     ) -> Result<SolveInfo, SolverError> {
         if self.law.is_signorini() {
-            return self.signorini(d, q, lambda);
+            let lcp = self.signorini(d, q, lambda);
+            return lcp.map_err(|e| self.named(e, None));
         }
-        let (loc, mut r) = Local::gather(&self.law, d, q, lambda, None)?;
+        let (loc, r) =
+            Local::gather(&self.law, d, q, lambda, None).map_err(|e| self.named(e, None))?;
         if loc.points.is_empty() {
             lambda.fill(0.0);
             return Ok(SolveInfo::default());
         }
+        let (r, iterations) = self.fixed_point(&loc, r)?;
+        Ok(loc.finish(&self.law, &r, lambda, iterations))
+    }
+}
+
+impl DeSaxce {
+    /// `e` as this solver's failure, naming the solver and μ (`contact.friction`) where it does
+    /// not already (Clarabel's statuses, a Delassus block that is not positive definite).
+    fn named(&self, e: SolverError, round: Option<usize>) -> SolverError {
+        match e {
+            SolverError::NotConverged {
+                method: "de_saxce", ..
+            } => e,
+            other => SolverError::NotConverged {
+                method: "de_saxce",
+                detail: format!(
+                    "{other}{} on {} points, with μ = {:?} (contact.friction)",
+                    round.map_or(String::new(), |k| format!(" in fixed-point round {k}")),
+                    self.law.points,
+                    self.law.mu
+                ),
+            },
+        }
+    }
+
+    /// The fixed point from `r`: its solution and the interior point's iterations.
+    fn fixed_point(
+        &self,
+        loc: &Local,
+        mut r: DVector<f64>,
+    ) -> Result<(DVector<f64>, usize), SolverError> {
         let (mut iterations, mut best, mut stagnant, mut done) =
             (0, (f64::INFINITY, r.clone()), 0, 0);
         while done < MAX_FIXED_POINT && stagnant < STAGNANT {
-            let (next, its) = self.round(&loc, &shifts(&loc, &r))?;
+            let (next, its) = self
+                .round(loc, &shifts(loc, &r))
+                .map_err(|e| self.named(e, Some(done + 1)))?;
             (iterations, done, r) = (iterations + its, done + 1, next);
             let (norm, converged) = loc.converged(&r, TOLERANCE);
             if converged {
-                return Ok(loc.finish(&self.law, &r, lambda, iterations));
+                return Ok((r, iterations));
             }
             stagnant = if norm < 0.99 * best.0 {
                 0
@@ -210,7 +269,7 @@ impl Solver for DeSaxce {
         // The rounds stopped improving, or ran out: the best within the interior point's floor.
         let (norm, r) = best;
         if loc.converged(&r, FLOOR).1 {
-            return Ok(loc.finish(&self.law, &r, lambda, iterations));
+            return Ok((r, iterations));
         }
         let why = if stagnant == STAGNANT {
             format!(" (the last {STAGNANT} without progress)")
@@ -256,6 +315,49 @@ mod tests {
                     .fold(0.0, f64::max);
                 assert!(diff < 1e-7, "μ {mu}, q {q:?}: {a:?} against {b:?}");
             }
+        }
+    }
+
+    /// Above the μ its rounds can reach it is refused up front, naming `--friction`; at it, it
+    /// is taken.
+    #[test]
+    fn a_mu_beyond_its_reach_is_refused() {
+        let law = |mu| Coulomb {
+            mu,
+            points: 2,
+            tangents: 1,
+            frictionless: 0,
+        };
+        assert!((largest_mu() - 2.39).abs() < 0.01, "{}", largest_mu());
+        for mu in [3.0, 100.0, 1e15] {
+            let e = super::super::by_name("de_saxce", law(mu)).err().unwrap();
+            let text = e.to_string();
+            assert!(
+                text.contains("contact.friction") && text.contains("--friction"),
+                "{text}"
+            );
+        }
+        assert!(super::super::by_name("de_saxce", law(largest_mu())).is_ok());
+    }
+
+    /// Every failure names the solver and μ, an interior point's status too.
+    #[test]
+    fn its_failures_name_it_and_mu() {
+        let (law, _) = two_points(1.5);
+        let e = DeSaxce::new(law).named(
+            SolverError::Clarabel {
+                status: "InsufficientProgress".into(),
+            },
+            Some(3),
+        );
+        let text = e.to_string();
+        for part in [
+            "de_saxce",
+            "InsufficientProgress",
+            "round 3",
+            "μ = 1.5 (contact.friction)",
+        ] {
+            assert!(text.contains(part), "{part}: {text}");
         }
     }
 

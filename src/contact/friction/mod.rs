@@ -32,7 +32,8 @@ pub const SOLVERS: &[&str] = &["alart_curnier", "projected_gauss_seidel", "de_sa
 pub const DEFAULT_SOLVER: &str = "alart_curnier";
 
 /// Relative tolerance on the Alart–Curnier residual `‖F(r)‖ ≤ TOLERANCE · scale`, with scale the
-/// largest of `‖r‖` and `‖ρ q‖` (a force).
+/// largest of `‖r‖` and `‖ρ q‖` (a force), the tangential rows measured against the friction
+/// radii they are computed from where those are larger ([`Local::converged`]).
 pub const TOLERANCE: f64 = 1e-11;
 
 /// The law at the contact points: coefficient μ, n_c points, d − 1 tangents per point
@@ -88,6 +89,18 @@ pub fn by_name(name: &str, law: Coulomb) -> Result<Box<dyn Solver>> {
             "de_saxce with frictionless points beside frictional ones: its cone (μ r_N, r_T) \
              loses r_N ≥ 0 where μ = 0; use alart_curnier or projected_gauss_seidel"
                 .into(),
+        )),
+        "de_saxce" if law.mu > de_saxce::largest_mu() => Err(Error::invalid(
+            "contact.friction",
+            law.mu,
+            &format!(
+                "de_saxce takes --friction μ ≤ {:.2}: its fixed point contracts by \
+                 μ²W_TT/(W_NN + μ²W_TT) ≥ μ²/(1 + μ²) per round at a slipping point, and its {} \
+                 rounds reach its tolerance {:e} only below that; use alart_curnier",
+                de_saxce::largest_mu(),
+                de_saxce::MAX_FIXED_POINT,
+                de_saxce::TOLERANCE
+            ),
         )),
         "de_saxce" => Ok(Box::new(de_saxce::DeSaxce::new(law))),
         "projected_gauss_seidel" => Ok(Box::new(
@@ -190,10 +203,50 @@ impl Local {
         r.norm().max(rq).max(f64::MIN_POSITIVE)
     }
 
-    /// The Alart–Curnier residual `‖F(r)‖` and whether it is within `tolerance` · scale.
+    /// The magnitude of the friction radii `μ max(0, r_N − ρ u_N)` that the tangential rows of
+    /// F are computed from: `‖μ_i (|r_N| + ρ_i (|q_N| + Σ_j |W_Nj r_j|))‖` over the points. Its
+    /// round-off, ε times it, bounds how small those rows can be computed: it grows with μ.
+    pub fn radii(&self, r: &DVector<f64>) -> f64 {
+        let dim = self.dim;
+        let radii: Vec<f64> = (0..self.points.len())
+            .map(|p| {
+                let s = p * dim;
+                let pushed = self.q[s].abs()
+                    + (0..r.len())
+                        .map(|b| (self.w[(s, b)] * r[b]).abs())
+                        .sum::<f64>();
+                self.mu[p] * (r[s].abs() + self.rho[p] * pushed)
+            })
+            .collect();
+        // The norm without squaring a radius of 1e300 (μ up to f64::MAX is taken).
+        let top = radii.iter().fold(0.0, |m: f64, x| m.max(*x));
+        if top == 0.0 || !top.is_finite() {
+            return top;
+        }
+        top * radii.iter().map(|x| (x / top).powi(2)).sum::<f64>().sqrt()
+    }
+
+    /// The Alart–Curnier residual and whether it is within `tolerance` · scale: `‖F‖`, its
+    /// tangential rows measured against the larger of the scale and the radii they are computed
+    /// from ([`Local::radii`]; the same as ‖F‖ up to μ of order one, and reachable in floating
+    /// point for any μ: at μ = 1e8 the radii's round-off exceeds 1e-11 · scale).
     pub fn converged(&self, r: &DVector<f64>, tolerance: f64) -> (f64, bool) {
-        let norm = alart_curnier::residual(self, r, false).0.norm();
-        (norm, norm <= tolerance * self.scale(r))
+        let f = alart_curnier::residual(self, r, false).0;
+        let scale = self.scale(r);
+        let tangential = scale / self.radii(r).max(scale);
+        let norm = f
+            .iter()
+            .enumerate()
+            .map(|(a, x)| {
+                if a % self.dim == 0 {
+                    x * x
+                } else {
+                    (tangential * x).powi(2)
+                }
+            })
+            .sum::<f64>()
+            .sqrt();
+        (norm, norm <= tolerance * scale)
     }
 
     /// Writes the solution `r` to `lambda` and reports `iterations` and the points with r_N > 0.
@@ -264,6 +317,29 @@ pub(crate) mod testing {
             0.1, 0.3, 0.2, 1.0,
         ]);
         (law, w)
+    }
+
+    /// Two points, point 1 coupled as a block's corner node is, strongly: `W_NT/W_NN = 0.61`
+    /// there (0.31 at slide2d's corners at h = ⅛), so that its slip branch turns over past
+    /// μ_c = 1.65; rows `[N0, N1, T0, T1]`. With q: up to μ = 4 the unique solution is point 0
+    /// sticking and point 1 open (found by enumerating the 4² open/stick/slip± states; from
+    /// about 4.6 two more appear, point 1 sticking or slipping), and Newton from r = 0 cycled at
+    /// μ = 4 for its 100 iterations.
+    pub fn corner(mu: f64) -> (Coulomb, DMatrix<f64>, [f64; 4]) {
+        let law = Coulomb {
+            mu,
+            points: 2,
+            tangents: 1,
+            frictionless: 0,
+        };
+        #[rustfmt::skip]
+        let w = DMatrix::from_row_slice(4, 4, &[
+            0.86, 1.792, 0.018, 1.235,
+            1.792, 8.155, -1.725, 4.94,
+            0.018, -1.725, 2.328, -1.292,
+            1.235, 4.94, -1.292, 3.987,
+        ]);
+        (law, w, [-1.778, -2.211, -0.369, -0.268])
     }
 
     /// The largest violation of the law at the solution `r` of `u = q + W r` (rows as the
