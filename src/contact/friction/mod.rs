@@ -301,14 +301,19 @@ pub(crate) mod testing {
     use super::Coulomb;
     use nalgebra::DMatrix;
 
-    /// Two points, one tangent each: rows `[N0, N1, T0, T1]`, W SPD with coupling.
-    pub fn two_points(mu: f64) -> (Coulomb, DMatrix<f64>) {
-        let law = Coulomb {
+    /// Coulomb's law at two points with one tangent each (2D), all frictional.
+    fn two_point_law(mu: f64) -> Coulomb {
+        Coulomb {
             mu,
             points: 2,
             tangents: 1,
             frictionless: 0,
-        };
+        }
+    }
+
+    /// Two points, one tangent each: rows `[N0, N1, T0, T1]`, W SPD with coupling.
+    pub fn two_points(mu: f64) -> (Coulomb, DMatrix<f64>) {
+        let law = two_point_law(mu);
         #[rustfmt::skip]
         let w = DMatrix::from_row_slice(4, 4, &[
             2.0, 0.5, 0.3, 0.1,
@@ -326,12 +331,7 @@ pub(crate) mod testing {
     /// about 4.6 two more appear, point 1 sticking or slipping), and Newton from r = 0 cycled at
     /// μ = 4 for its 100 iterations.
     pub fn corner(mu: f64) -> (Coulomb, DMatrix<f64>, [f64; 4]) {
-        let law = Coulomb {
-            mu,
-            points: 2,
-            tangents: 1,
-            frictionless: 0,
-        };
+        let law = two_point_law(mu);
         #[rustfmt::skip]
         let w = DMatrix::from_row_slice(4, 4, &[
             0.86, 1.792, 0.018, 1.235,
