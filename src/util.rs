@@ -114,13 +114,14 @@ fn number_in(path: &str) -> Option<f64> {
 
 /// The address space the run's threads (the workers and the sampling one) will still reserve
 /// beyond their resident memory, [`THREAD_ADDRESS_SPACE`] each less what the process holds so
-/// already (`reserved`, `VmSize` less `VmRSS`: the threads started so far). Counted from
-/// `RAYON_NUM_THREADS` or the cores, without starting the pool (which would panic if a thread
-/// could not start).
+/// already (`reserved`, `VmSize` less `VmRSS`: the threads started so far). Counted as rayon
+/// will size its pool, from the first of [`THREAD_VARIABLES`] set (0: one per core) or the
+/// cores, without starting it (which would panic if a thread could not start).
 fn thread_reserve(reserved: f64) -> f64 {
-    let workers = std::env::var("RAYON_NUM_THREADS")
-        .ok()
-        .and_then(|t| t.trim().parse::<usize>().ok())
+    let workers = THREAD_VARIABLES
+        .iter()
+        .find_map(|v| std::env::var(v).ok().filter(|t| !t.is_empty()))
+        .and_then(|t| t.parse::<usize>().ok())
         .filter(|&t| t > 0)
         .or_else(|| std::thread::available_parallelism().ok().map(|n| n.get()))
         .unwrap_or(1);

@@ -247,6 +247,16 @@ impl SweepSpec {
         Ok(())
     }
 
+    /// The table's fields that give each level's dt and elements: `dt` and `elements`, or
+    /// `refinements` for both.
+    fn level_fields(&self) -> [&'static str; 2] {
+        if self.refinements.is_empty() {
+            ["dt", "elements"]
+        } else {
+            ["refinements"; 2]
+        }
+    }
+
     /// The refinement levels (the first `quick_levels` with `quick`), validated (dt > 0, at
     /// least one element).
     pub fn refinements(&self, quick: bool) -> Result<Vec<Refinement>> {
@@ -302,11 +312,7 @@ impl SweepSpec {
         if levels.is_empty() {
             return Err(Error::invalid(field("levels"), 0, "at least one level"));
         }
-        let given = if self.refinements.is_empty() {
-            ["dt", "elements"]
-        } else {
-            ["refinements"; 2]
-        };
+        let given = self.level_fields();
         for r in &levels {
             positive(&field(given[0]), r.dt)?;
             if r.elements == Some(0) {
@@ -323,10 +329,7 @@ impl SweepSpec {
     pub fn overrides(&self, space: &str, choice: &SchemeChoice, level: Refinement) -> Overrides {
         let origin = Origin {
             table: format!("sweep.{}", self.name),
-            levels: match self.refinements.is_empty() {
-                true => ["dt", "elements"],
-                false => ["refinements"; 2],
-            },
+            levels: self.level_fields(),
         };
         Overrides {
             friction: self.friction,

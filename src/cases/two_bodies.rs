@@ -236,8 +236,8 @@ fn gmsh_bodies(
             (BODY_GROUPS[1], CONTACT_GROUPS[1]),
         ],
     )?;
-    let [(lo1, hi1), (lo2, hi2)] = [0, 1].map(|b| extent(&meshes[b], dim - 1));
-    check_placement(file, dim, [(lo1, hi1), (lo2, hi2)])?;
+    let extents = [0, 1].map(|b| extent(&meshes[b], dim - 1));
+    check_placement(file, dim, extents)?;
     let shape2 = m
         .geometry
         .as_ref()
@@ -246,7 +246,7 @@ fn gmsh_bodies(
         check_alignment(file, dim, &meshes)?;
     }
     let along = |z: f64| std::array::from_fn(|k| if k == dim - 1 { z } else { 0.0 });
-    let shifts = [along(lo1), along(hi2)];
+    let shifts = [along(extents[0].0), along(extents[1].1)];
     let [m1, m2]: [Mesh; 2] = meshes
         .try_into()
         .map_err(|_| Error::Internal("two bodies read".into()))?;

@@ -322,12 +322,7 @@ mod tests {
     /// is taken.
     #[test]
     fn a_mu_beyond_its_reach_is_refused() {
-        let law = |mu| Coulomb {
-            mu,
-            points: 2,
-            tangents: 1,
-            frictionless: 0,
-        };
+        let law = |mu| two_points(mu).0;
         assert!((largest_mu() - 2.39).abs() < 0.01, "{}", largest_mu());
         for mu in [3.0, 100.0, 1e15] {
             let e = super::super::by_name("de_saxce", law(mu)).err().unwrap();

@@ -20,7 +20,7 @@
 use super::{Coulomb, Local, TOLERANCE};
 use crate::contact::{SolveInfo, Solver};
 use crate::error::SolverError;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 /// Sweeps allowed per step.
 pub const MAX_SWEEPS: usize = 20_000;
@@ -211,28 +211,20 @@ fn directions(h: &impl Fn(f64) -> f64) -> Vec<f64> {
     roots
 }
 
-/// `−A⁻¹ b` for the SPD block A (`dim` ≤ 3 rows), by Cholesky.
+/// `−A⁻¹ b` for the SPD block A (`dim` ≤ 3 rows) by nalgebra's Cholesky, the unused rows
+/// as the identity (0 there); NaN on the first `dim` where A is not positive definite (no
+/// stick candidate then).
 fn solve_spd(a: &[[f64; 3]; 3], b: &[f64], dim: usize) -> [f64; 3] {
-    let mut l = [[0.0; 3]; 3];
-    for i in 0..dim {
-        for j in 0..=i {
-            let s = a[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>();
-            l[i][j] = if i == j {
-                s.max(0.0).sqrt()
-            } else {
-                s / l[j][j]
-            };
-        }
+    let m = Matrix3::from_fn(|i, j| match (i < dim && j < dim, i == j) {
+        (true, _) => a[i][j],
+        (false, true) => 1.0,
+        (false, false) => 0.0,
+    });
+    let rhs = Vector3::from_fn(|i, _| if i < dim { -b[i] } else { 0.0 });
+    match m.cholesky() {
+        Some(l) => l.solve(&rhs).into(),
+        None => std::array::from_fn(|i| if i < dim { f64::NAN } else { 0.0 }),
     }
-    let mut y = [0.0; 3];
-    for i in 0..dim {
-        y[i] = (-b[i] - (0..i).map(|k| l[i][k] * y[k]).sum::<f64>()) / l[i][i];
-    }
-    let mut x = [0.0; 3];
-    for i in (0..dim).rev() {
-        x[i] = (y[i] - (i + 1..dim).map(|k| l[k][i] * x[k]).sum::<f64>()) / l[i][i];
-    }
-    x
 }
 
 /// The norm of the Alart–Curnier function of one point at `x`, `ρ = 1/A_NN`.
