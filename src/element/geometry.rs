@@ -23,15 +23,25 @@ pub fn jacobian_from(el: &RefElement, x: &[[f64; 3]], g: &[[f64; 3]]) -> Matrix3
 /// Values and physical gradients `J⁻ᵀ ∇̂φ` at a point, and `|det J|`.
 pub fn physical(el: &RefElement, x: &[[f64; 3]], xi: [f64; 3]) -> (Vec<f64>, Vec<[f64; 3]>, f64) {
     let (v, g) = el.eval(xi);
-    let jac = jacobian_from(el, x, &g);
+    let mut out = vec![[0.0; 3]; g.len()];
+    let det = physical_gradients(el, x, &g, &mut out);
+    (v, out, det)
+}
+
+/// The physical gradients `J⁻ᵀ ∇̂φ_a` into `out` from the reference gradients `g` at a point
+/// (e.g. [`super::reference::Tabulation`]'s), and `|det J|`.
+pub fn physical_gradients(
+    el: &RefElement,
+    x: &[[f64; 3]],
+    g: &[[f64; 3]],
+    out: &mut [[f64; 3]],
+) -> f64 {
+    let jac = jacobian_from(el, x, g);
     // Checked cells have det J ≠ 0 (Mesh::check); zero gradients rather than a panic otherwise.
     let inv_t = jac.try_inverse().unwrap_or_else(Matrix3::zeros).transpose();
-    let g = g
-        .iter()
-        .map(|gr| {
-            let p = inv_t * nalgebra::Vector3::new(gr[0], gr[1], gr[2]);
-            [p[0], p[1], p[2]]
-        })
-        .collect();
-    (v, g, jac.determinant().abs())
+    for (o, gr) in out.iter_mut().zip(g) {
+        let p = inv_t * nalgebra::Vector3::new(gr[0], gr[1], gr[2]);
+        *o = [p[0], p[1], p[2]];
+    }
+    jac.determinant().abs()
 }

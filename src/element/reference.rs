@@ -31,6 +31,29 @@ pub struct RefElement {
     pub degree: usize,
 }
 
+/// A reference element's basis at its quadrature points ([`RefElement::tabulate`]).
+#[derive(Debug, Clone)]
+pub struct Tabulation {
+    /// The element.
+    pub element: RefElement,
+    /// Its quadrature points, in [`RefElement::quadrature`]'s order.
+    pub points: Vec<TabulatedPoint>,
+}
+
+/// One quadrature point: its weight, and the values and reference gradients of every basis
+/// function there ([`RefElement::eval`]).
+#[derive(Debug, Clone)]
+pub struct TabulatedPoint {
+    /// Weight.
+    pub weight: f64,
+    /// `φ_a(ξ)`.
+    pub values: Vec<f64>,
+    /// `∇̂φ_a(ξ)`.
+    pub gradients: Vec<[f64; 3]>,
+    /// `ψ_i(ξ)`: the degree-1 basis of the same shape ([`RefElement::linear`]).
+    pub linear: Vec<f64>,
+}
+
 /// The unit square's corners in counter-clockwise order.
 const SQUARE: [[usize; 2]; 4] = [[0, 0], [1, 0], [1, 1], [0, 1]];
 /// Edges of the triangle (P2 midpoint order).
@@ -186,6 +209,25 @@ impl RefElement {
             }
         }
         (v, g)
+    }
+
+    /// The basis at every quadrature point, computed once for all the cells of a mesh.
+    pub fn tabulate(&self) -> Tabulation {
+        let points = (self.quadrature().into_iter())
+            .map(|(xi, weight)| {
+                let (values, gradients) = self.eval(xi);
+                TabulatedPoint {
+                    weight,
+                    values,
+                    gradients,
+                    linear: self.linear().0.eval(xi).0,
+                }
+            })
+            .collect();
+        Tabulation {
+            element: *self,
+            points,
+        }
     }
 
     /// Quadrature points and weights on the reference cell (weights sum to its measure).

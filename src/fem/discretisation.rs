@@ -12,6 +12,7 @@
 //! - the probe: the Γ_C vertex nearest the plane at t = 0 (ties: nearest the centre of Γ_C's
 //!   bounding box).
 
+use crate::element::reference::Tabulation;
 use crate::element::segment::Segment;
 use crate::error::{Error, Result};
 use crate::fem::assembly::assemble_square;
@@ -219,26 +220,27 @@ impl Discretisation {
         self.lame.lambda + 2.0 * self.lame.mu
     }
 
-    /// The element stiffness of cell `c` (1D: the segment's closed form on the uniform length).
-    fn cell_stiffness(&self, c: usize) -> DMatrix<f64> {
+    /// The element stiffness of cell `c` (1D: the segment's closed form on the uniform length;
+    /// `tab`: the element's basis at its quadrature points).
+    fn cell_stiffness(&self, tab: &Tabulation, c: usize) -> DMatrix<f64> {
         if self.dim() == 1 {
             let (seg, h) = self.segment();
             return segment_stiffness(seg, h, self.modulus_1d());
         }
-        element_stiffness(&self.mesh.element, &self.mesh.cell_nodes(c), self.lame)
+        element_stiffness(tab, &self.mesh.cell_nodes(c), self.lame)
     }
 
     /// The scalar element mass of the cell with nodes `x`.
-    fn cell_mass(&self, x: &[[f64; 3]]) -> DMatrix<f64> {
+    fn cell_mass(&self, tab: &Tabulation, x: &[[f64; 3]]) -> DMatrix<f64> {
         if self.dim() == 1 {
             let (seg, h) = self.segment();
             return segment_mass(seg, h, self.density);
         }
-        element_mass(&self.mesh.element, x, self.density)
+        element_mass(tab, x, self.density)
     }
 
     /// `(C, B)` of the cell with nodes `x` for the degree-1 velocity space.
-    fn cell_mixed(&self, x: &[[f64; 3]]) -> (DMatrix<f64>, DMatrix<f64>) {
+    fn cell_mixed(&self, tab: &Tabulation, x: &[[f64; 3]]) -> (DMatrix<f64>, DMatrix<f64>) {
         if self.dim() == 1 {
             let (seg, h) = self.segment();
             let p1 = Segment { degree: 1 };
@@ -247,7 +249,7 @@ impl Discretisation {
                 segment_mixed_mass(p1, seg, h, self.density),
             );
         }
-        mixed_matrices(&self.mesh.element, x, self.density)
+        mixed_matrices(tab, x, self.density)
     }
 
     /// The semi-discrete problem of this body with the inertia a space builds from its element
@@ -312,6 +314,7 @@ impl Discretisation {
     /// [`assemble_square`]).
     pub fn stiffness(&self) -> Result<SpMat> {
         let (d, mesh) = (self.dim(), &self.mesh);
+        let tab = mesh.element.tabulate();
         assemble_square(
             self.n_dofs(),
             mesh.connectivity.len(),
@@ -321,7 +324,7 @@ impl Discretisation {
                     .flat_map(|&i| (0..d).map(move |comp| self.dofs.get(i, comp)))
                     .collect()
             },
-            |c| self.cell_stiffness(c),
+            |c| self.cell_stiffness(&tab, c),
         )
     }
 
@@ -331,28 +334,34 @@ impl Discretisation {
         let el = mesh.element;
         let (vertex, nv) = self.vertex_index();
         let (_, map) = el.linear();
-        let mut elements = Vec::with_capacity(mesh.connectivity.len());
-        let mut mixed = Vec::new();
-        for (c, cell) in mesh.connectivity.iter().enumerate() {
-            let x = mesh.cell_nodes(c);
-            elements.push(ElementMass {
-                mass: self.cell_mass(&x),
-                x: x.clone(),
-                dofs: self.cell_dofs(c),
-            });
-            if el.degree == 2 {
-                let (cm, bm) = self.cell_mixed(&x);
-                // Every local vertex is a mesh vertex by construction of `vertex_flags`.
-                let verts: Vec<usize> = map.iter().filter_map(|&a| vertex[cell[a]]).collect();
-                mixed.push(ElementMixed {
-                    c: cm,
-                    b: bm,
-                    vdofs: (0..d)
-                        .map(|comp| verts.iter().map(|v| v * d + comp).collect())
-                        .collect(),
+        let tab = el.tabulate();
+        let cells: Vec<(ElementMass, Option<ElementMixed>)> = (mesh.connectivity.par_iter())
+            .enumerate()
+            .map(|(c, cell)| {
+                let x = mesh.cell_nodes(c);
+                let mixed = (el.degree == 2).then(|| {
+                    let (cm, bm) = self.cell_mixed(&tab, &x);
+                    // Every local vertex is a mesh vertex by construction of `vertex_flags`.
+                    let verts: Vec<usize> = map.iter().filter_map(|&a| vertex[cell[a]]).collect();
+                    ElementMixed {
+                        c: cm,
+                        b: bm,
+                        vdofs: (0..d)
+                            .map(|comp| verts.iter().map(|v| v * d + comp).collect())
+                            .collect(),
+                    }
                 });
-            }
-        }
+                let mass = ElementMass {
+                    mass: self.cell_mass(&tab, &x),
+                    x,
+                    dofs: self.cell_dofs(c),
+                };
+                (mass, mixed)
+            })
+            .collect();
+        let (elements, mixed): (Vec<ElementMass>, Vec<Option<ElementMixed>>) =
+            cells.into_iter().unzip();
+        let mixed: Vec<ElementMixed> = mixed.into_iter().flatten().collect();
         let mut contact_dofs: Vec<usize> = self
             .contact_vertices
             .iter()

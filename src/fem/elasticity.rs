@@ -6,8 +6,8 @@
 //! local nodes, `x(ξ) = Σ_a x_a φ_a(ξ)` (curved P2/Q2 cells included); [`crate::mesh::Mesh::check`]
 //! has refused cells whose Jacobian vanishes or changes sign.
 
-use crate::element::geometry::{jacobian_from, physical};
-use crate::element::reference::RefElement;
+use crate::element::geometry::{jacobian_from, physical, physical_gradients};
+use crate::element::reference::{RefElement, Tabulation};
 use nalgebra::{DMatrix, Matrix3};
 
 /// Lamé constants.
@@ -34,41 +34,73 @@ impl Lame {
     }
 }
 
-/// Element stiffness (`dim · n` square) of the cell with node coordinates `x`.
-pub fn element_stiffness(el: &RefElement, x: &[[f64; 3]], lame: Lame) -> DMatrix<f64> {
-    let (n, d) = (el.n_nodes(), el.dim);
-    let nd = n * d;
-    let mut k = DMatrix::zeros(nd, nd);
-    // Column-major: entry (i, j) at i + j nd.
-    let kv = k.as_mut_slice();
-    for (xi, w) in el.quadrature() {
-        let (_, g, det) = physical(el, x, xi);
-        let wd = w * det;
+/// Element stiffness (`dim · n` square) of the cell with node coordinates `x`, from its
+/// element's basis at the quadrature points (`tab`, computed once for all the cells).
+pub fn element_stiffness(tab: &Tabulation, x: &[[f64; 3]], lame: Lame) -> DMatrix<f64> {
+    match tab.element.dim {
+        1 => stiffness::<1>(tab, x, lame),
+        2 => stiffness::<2>(tab, x, lame),
+        _ => stiffness::<3>(tab, x, lame),
+    }
+}
+
+/// [`element_stiffness`] in dimension `D`, its entries `(a, c), (b, e)` summed over the points
+/// by rows `(a, c, e)` of every b: per entry, the same operations in the same order as one
+/// entry at a time.
+fn stiffness<const D: usize>(tab: &Tabulation, x: &[[f64; 3]], lame: Lame) -> DMatrix<f64> {
+    let el = &tab.element;
+    let n = el.n_nodes();
+    let mut g = vec![[0.0; 3]; n];
+    // ∂_l φ_b at l n + b, and ∇φ_a·∇φ_b of one a at b.
+    let (mut gt, mut dot) = (vec![0.0; D * n], vec![0.0; n]);
+    // K_(a,c),(b,e) at ((a D + c) D + e) n + b.
+    let mut k = vec![0.0; n * D * D * n];
+    for point in &tab.points {
+        let wd = point.weight * physical_gradients(el, x, &point.gradients, &mut g);
+        for (b, gb) in g.iter().enumerate() {
+            for l in 0..D {
+                gt[l * n + b] = gb[l];
+            }
+        }
         for (a, ga) in g.iter().enumerate() {
-            for (b, gb) in g.iter().enumerate() {
-                let dot: f64 = (0..d).map(|l| ga[l] * gb[l]).sum();
-                for c in 0..d {
-                    for e in 0..d {
-                        let mut s = lame.lambda * ga[c] * gb[e] + lame.mu * ga[e] * gb[c];
-                        if c == e {
-                            s += lame.mu * dot;
+            for (b, d) in dot.iter_mut().enumerate() {
+                *d = (0..D).map(|l| ga[l] * gt[l * n + b]).sum();
+            }
+            for c in 0..D {
+                let lc = lame.lambda * ga[c];
+                for e in 0..D {
+                    let me = lame.mu * ga[e];
+                    let row = &mut k[((a * D + c) * D + e) * n..][..n];
+                    let (ge, gc) = (&gt[e * n..][..n], &gt[c * n..][..n]);
+                    if c == e {
+                        for (b, kb) in row.iter_mut().enumerate() {
+                            let mut s = lc * ge[b] + me * gc[b];
+                            s += lame.mu * dot[b];
+                            *kb += wd * s;
                         }
-                        kv[a * d + c + (b * d + e) * nd] += wd * s;
+                    } else {
+                        for (b, kb) in row.iter_mut().enumerate() {
+                            *kb += wd * (lc * ge[b] + me * gc[b]);
+                        }
                     }
                 }
             }
         }
     }
-    k
+    DMatrix::from_fn(n * D, n * D, |i, j| {
+        let (a, c, b, e) = (i / D, i % D, j / D, j % D);
+        k[((a * D + c) * D + e) * n + b]
+    })
 }
 
 /// Scalar element mass `∫ρ φ_a φ_b` (`n` square; the same on every component).
-pub fn element_mass(el: &RefElement, x: &[[f64; 3]], rho: f64) -> DMatrix<f64> {
+pub fn element_mass(tab: &Tabulation, x: &[[f64; 3]], rho: f64) -> DMatrix<f64> {
+    let el = &tab.element;
     let n = el.n_nodes();
     let mut m = DMatrix::zeros(n, n);
-    for (xi, w) in el.quadrature() {
-        let (v, g) = el.eval(xi);
-        let det = jacobian_from(el, x, &g).determinant().abs();
+    for p in &tab.points {
+        let (w, v) = (p.weight, &p.values);
+        let det = jacobian_from(el, x, &p.gradients).determinant().abs();
         for a in 0..n {
             for b in 0..n {
                 m[(a, b)] += w * det * rho * v[a] * v[b];
@@ -80,15 +112,14 @@ pub fn element_mass(el: &RefElement, x: &[[f64; 3]], rho: f64) -> DMatrix<f64> {
 
 /// `(C, B)` of the singular dynamic method on one cell: `C_ij = ∫ρ ψ_i ψ_j`, `B_ij = ∫ρ ψ_i φ_j`
 /// with ψ the degree-1 basis of the same shape.
-pub fn mixed_matrices(el: &RefElement, x: &[[f64; 3]], rho: f64) -> (DMatrix<f64>, DMatrix<f64>) {
-    let (lin, _) = el.linear();
-    let (n, nl) = (el.n_nodes(), lin.n_nodes());
+pub fn mixed_matrices(tab: &Tabulation, x: &[[f64; 3]], rho: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+    let el = &tab.element;
+    let (n, nl) = (el.n_nodes(), el.linear().0.n_nodes());
     let mut c = DMatrix::zeros(nl, nl);
     let mut b = DMatrix::zeros(nl, n);
-    for (xi, w) in el.quadrature() {
-        let (phi, g) = el.eval(xi);
-        let wd = w * jacobian_from(el, x, &g).determinant().abs() * rho;
-        let (psi, _) = lin.eval(xi);
+    for p in &tab.points {
+        let (phi, psi) = (&p.values, &p.linear);
+        let wd = p.weight * jacobian_from(el, x, &p.gradients).determinant().abs() * rho;
         for i in 0..nl {
             for j in 0..nl {
                 c[(i, j)] += wd * psi[i] * psi[j];
