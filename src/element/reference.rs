@@ -213,7 +213,12 @@ impl RefElement {
 
     /// The basis at every quadrature point, computed once for all the cells of a mesh.
     pub fn tabulate(&self) -> Tabulation {
-        let points = (self.quadrature().into_iter())
+        self.tabulate_at(self.quadrature())
+    }
+
+    /// The basis at the points `(ξ, weight)`.
+    pub fn tabulate_at(&self, points: Vec<([f64; 3], f64)>) -> Tabulation {
+        let points = (points.into_iter())
             .map(|(xi, weight)| {
                 let (values, gradients) = self.eval(xi);
                 TabulatedPoint {

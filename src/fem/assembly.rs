@@ -3,6 +3,7 @@
 use crate::element::quadrature::gauss_legendre_01;
 use crate::element::segment::Segment;
 use crate::error::Result;
+use crate::linalg::sparse::split_columns;
 use crate::linalg::{SpMat, TripletBuilder};
 use nalgebra::DMatrix;
 use std::ops::Range;
@@ -88,13 +89,16 @@ pub fn assemble_square(
     let mut val = vec![0.0; pattern.1.len()];
     let mut touched = vec![false; pattern.1.len()];
     // Ranges of columns of about as many entries, each added by one task.
-    let ranges = column_ranges(&pattern.0, 4 * rayon::current_num_threads());
+    let cuts = balanced_cuts(&pattern.0, 4 * rayon::current_num_threads());
     for start in (0..count).step_by(ASSEMBLY_CHUNK) {
         let elements = start..count.min(start + ASSEMBLY_CHUNK);
         let chunk: Vec<DMatrix<f64>> = elements.clone().into_par_iter().map(&local).collect();
-        let parts = split_by_columns(&ranges, &pattern.0, &mut val, &mut touched);
-        parts.into_par_iter().for_each(|mut part| {
+        let vals = split_columns(&cuts, |j| pattern.0[j], &mut val);
+        let flags = split_columns(&cuts, |j| pattern.0[j], &mut touched);
+        let parts = cuts.par_windows(2).zip(vals).zip(flags);
+        parts.for_each(|((w, val), touched)| {
             let mut scratch = Scratch::default();
+            let mut part = (w[0]..w[1], val, touched);
             for (e, m) in elements.clone().zip(&chunk) {
                 scratch.add(dofs.of(e), m, (&pattern.0, &pattern.1), &mut part);
             }
@@ -104,7 +108,7 @@ pub fn assemble_square(
     Ok(drop_untouched(n, (col_ptr, row_idx, val), &touched))
 }
 
-/// The values and flags of a range of columns ([`split_by_columns`]).
+/// The values and flags of a range of columns ([`split_columns`]).
 type Part<'a> = (Range<usize>, &'a mut [f64], &'a mut [bool]);
 
 /// The work space of [`Scratch::add`].
@@ -253,43 +257,21 @@ impl ElementDofs {
     }
 }
 
-/// About `parts` ranges of columns holding as many entries each (at least one column each).
-fn column_ranges(col_ptr: &[usize], parts: usize) -> Vec<Range<usize>> {
+/// The boundaries of about `parts` ranges of columns holding as many entries each (at least
+/// one column each), from 0 to the last column.
+fn balanced_cuts(col_ptr: &[usize], parts: usize) -> Vec<usize> {
     let (n, total) = (col_ptr.len() - 1, col_ptr[col_ptr.len() - 1]);
-    let mut ranges = Vec::with_capacity(parts);
-    let mut first = 0;
-    for p in 1..=parts {
-        let end = if p == parts {
-            n
-        } else {
-            col_ptr
-                .partition_point(|&k| k < total * p / parts)
-                .clamp(first, n)
-        };
-        if end > first {
-            ranges.push(first..end);
-            first = end;
+    let mut cuts = vec![0];
+    for p in 1..parts {
+        let end = col_ptr.partition_point(|&k| k < total * p / parts).min(n);
+        if end > cuts[cuts.len() - 1] {
+            cuts.push(end);
         }
     }
-    ranges
-}
-
-/// The values and flags of each range of columns, as disjoint slices.
-fn split_by_columns<'a>(
-    ranges: &[Range<usize>],
-    col_ptr: &[usize],
-    mut val: &'a mut [f64],
-    mut touched: &'a mut [bool],
-) -> Vec<(Range<usize>, &'a mut [f64], &'a mut [bool])> {
-    let mut parts = Vec::with_capacity(ranges.len());
-    for cols in ranges {
-        let len = col_ptr[cols.end] - col_ptr[cols.start];
-        let (v, rest_v) = std::mem::take(&mut val).split_at_mut(len);
-        let (t, rest_t) = std::mem::take(&mut touched).split_at_mut(len);
-        (val, touched) = (rest_v, rest_t);
-        parts.push((cols.clone(), v, t));
+    if n > cuts[cuts.len() - 1] {
+        cuts.push(n);
     }
-    parts
+    cuts
 }
 
 /// The matrix of the compressed columns without the entries not `touched`.

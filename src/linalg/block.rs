@@ -141,6 +141,7 @@ fn cuts(ptr: &[usize]) -> Vec<usize> {
 /// {3, 2} for which its pattern is made of aligned b × b blocks (every column of a node has the
 /// rows of the node's first, in whole nodes), 1 when neither is.
 pub fn node_size(a: &SpMat) -> usize {
+    use rayon::prelude::*;
     let (cp, ri, _) = csc(a);
     let n = a.ncols();
     let aligned = |b: usize| {
@@ -153,13 +154,16 @@ pub fn node_size(a: &SpMat) -> usize {
             };
             same && rows.len() % b == 0 && rows.chunks_exact(b).all(whole)
         };
-        n.is_multiple_of(b) && u32::try_from(n / b).is_ok() && (0..n / b).all(nodes)
+        n.is_multiple_of(b) && u32::try_from(n / b).is_ok() && (0..n / b).into_par_iter().all(nodes)
     };
     if a.nrows() != n {
         return 1;
     }
     [3, 2].into_iter().find(|&b| aligned(b)).unwrap_or(1)
 }
+
+/// Block columns copied by one task of [`BlockSym::new`].
+const BLOCK_CHUNK: usize = 2048;
 
 impl BlockSym {
     /// The block form of `a`, when its pattern is made of aligned b × b blocks for b = 3 or 2.
@@ -168,34 +172,47 @@ impl BlockSym {
         (b > 1).then(|| Self::with_block(a, b))
     }
 
-    /// The blocks of `a`, whose pattern is made of aligned b × b blocks ([`node_size`]).
+    /// The blocks of `a`, whose pattern is made of aligned b × b blocks ([`node_size`]): their
+    /// rows counted, then the values copied in parallel by chunks of block columns.
     fn with_block(a: &SpMat, b: usize) -> Self {
+        use rayon::prelude::*;
         let upper = b == 3;
         let (cp, ri, v) = csc(a);
         let n = a.ncols();
+        // The first row of each stored block of block column jb.
+        let firsts = |jb: usize| {
+            let rows = ri[cp[b * jb]..cp[b * jb + 1]].chunks_exact(b);
+            rows.map(|block| block[0])
+                .enumerate()
+                .filter(move |(_, r)| !upper || r / b <= jb)
+        };
         let mut ptr = vec![0];
-        let (mut idx, mut val) = (Vec::new(), Vec::new());
         for jb in 0..n / b {
-            let rows = &ri[cp[b * jb]..cp[b * jb + 1]];
-            for (k, block) in rows.chunks_exact(b).enumerate() {
-                if upper && block[0] / b > jb {
-                    continue;
-                }
-                idx.push((block[0] / b) as u32);
-                // 2 × 2 blocks row-major, 3 × 3 column-major ([`BlockSym::upper_part_any`]).
-                for e in 0..b * b {
-                    let (r, c) = if upper {
-                        (e % b, e / b)
-                    } else {
-                        (e / b, e % b)
-                    };
-                    val.push(v[cp[b * jb + c] + b * k + r]);
+            ptr.push(ptr[jb] + firsts(jb).count());
+        }
+        // The vector kernel reads a block's last column as four values: one zero after them.
+        let (mut idx, mut val) = (vec![0; ptr[n / b]], vec![0.0; b * b * ptr[n / b] + 1]);
+        let chunks = super::sparse::column_cuts(n / b, BLOCK_CHUNK);
+        let idxs = super::sparse::split_columns(&chunks, |jb| ptr[jb], &mut idx);
+        let vals = super::sparse::split_columns(&chunks, |jb| b * b * ptr[jb], &mut val);
+        (chunks.par_windows(2).zip(idxs).zip(vals)).for_each(|((w, idx), val)| {
+            let mut at = 0;
+            for jb in w[0]..w[1] {
+                for (k, r) in firsts(jb) {
+                    idx[at] = (r / b) as u32;
+                    // 2 × 2 blocks row-major, 3 × 3 column-major ([`BlockSym::upper_part_any`]).
+                    for e in 0..b * b {
+                        let (r, c) = if upper {
+                            (e % b, e / b)
+                        } else {
+                            (e / b, e % b)
+                        };
+                        val[b * b * at + e] = v[cp[b * jb + c] + b * k + r];
+                    }
+                    at += 1;
                 }
             }
-            ptr.push(idx.len());
-        }
-        // The vector kernel reads a block's last column as four values.
-        val.push(0.0);
+        });
         let cuts = cuts(&ptr);
         Self {
             b,
@@ -215,11 +232,9 @@ impl BlockSym {
     ///
     /// Both keep the zero that follows the values ([`BlockSym::new`]).
     pub fn rounded(self) -> BlockSym<f32> {
-        let val: Vec<f32> = self.val.iter().map(|&v| v as f32).collect();
-        let rest: Vec<f32> = self
-            .val
-            .iter()
-            .zip(&val)
+        use rayon::prelude::*;
+        let val: Vec<f32> = self.val.par_iter().map(|&v| v as f32).collect();
+        let rest: Vec<f32> = (self.val.par_iter().zip(&val))
             .map(|(&v, &h)| (v - f64::from(h)) as f32)
             .collect();
         BlockSym {

@@ -430,9 +430,17 @@ fn for_pairs_inside(row: &[(usize, f64)], index: &[usize], mut f: impl FnMut(usi
 pub fn principal_submatrix(a: &SpMat, dofs: &[usize]) -> Result<SpMat> {
     let index = block_index(dofs, a.nrows());
     let mut b = TripletBuilder::new(dofs.len(), dofs.len());
-    for (i, j, v) in triplets(a) {
-        if index[i] != usize::MAX && index[j] != usize::MAX {
-            b.add(index[i], index[j], v);
+    // The columns of the block in increasing order, as the whole matrix's entries would come.
+    let mut columns = dofs.to_vec();
+    columns.sort_unstable();
+    columns.dedup();
+    let a = a.as_ref();
+    for j in columns {
+        let rows = a.row_idx_of_col_raw(j).iter();
+        for (&i, &v) in rows.zip(a.val_of_col(j)) {
+            if index[i] != usize::MAX {
+                b.add(index[i], index[j], v);
+            }
         }
     }
     b.build()

@@ -116,16 +116,26 @@ pub(super) fn csc(a: &SpMat) -> (&[usize], &[usize], &[f64]) {
 
 /// The diagonal of a square sparse matrix (duplicates summed).
 pub fn diagonal(a: &SpMat) -> Vec<f64> {
+    use rayon::prelude::*;
+    let (cp, ri, v) = csc(a);
     let mut d = vec![0.0; a.nrows()];
-    for (i, _, v) in triplets(a).filter(|(i, j, _)| i == j) {
-        d[i] += v;
-    }
+    // Column j's rows are sorted: its entries on row j are one run.
+    let n = a.ncols().min(a.nrows());
+    d[..n].par_iter_mut().enumerate().for_each(|(j, d)| {
+        let rows = &ri[cp[j]..cp[j + 1]];
+        let first = rows.partition_point(|&i| i < j);
+        for k in (first..rows.len()).take_while(|&k| rows[k] == j) {
+            *d += v[cp[j] + k];
+        }
+    });
     d
 }
 
 /// `A = a · X + b · Y` for two sparse matrices of the same shape (union of the patterns), by a
-/// merge of their sorted columns (no triplet sort).
+/// merge of their sorted columns (no triplet sort): each column's entries counted, then the
+/// columns merged into their place, both in parallel by chunks of columns.
 pub fn lin_comb(a: f64, x: &SpMat, b: f64, y: &SpMat) -> Result<SpMat> {
+    use rayon::prelude::*;
     let (n, m) = (x.nrows(), x.ncols());
     if (y.nrows(), y.ncols()) != (n, m) {
         return Err(Error::Internal(format!(
@@ -135,11 +145,8 @@ pub fn lin_comb(a: f64, x: &SpMat, b: f64, y: &SpMat) -> Result<SpMat> {
         )));
     }
     let ((xp, xi, xv), (yp, yi, yv)) = (csc(x), csc(y));
-    let mut col_ptr = Vec::with_capacity(m + 1);
-    let mut row_idx = Vec::with_capacity(xv.len().max(yv.len()));
-    let mut val = Vec::with_capacity(row_idx.capacity());
-    col_ptr.push(0);
-    for j in 0..m {
+    // Column j of the union, `emit(row, a x + b y)` in row order.
+    let merge = |j: usize, emit: &mut dyn FnMut(usize, f64)| {
         let (mut p, mut q) = (xp[j], yp[j]);
         while p < xp[j + 1] || q < yp[j + 1] {
             let rx = if p < xp[j + 1] { xi[p] } else { usize::MAX };
@@ -154,13 +161,61 @@ pub fn lin_comb(a: f64, x: &SpMat, b: f64, y: &SpMat) -> Result<SpMat> {
                 v += b * yv[q];
                 q += 1;
             }
-            row_idx.push(r);
-            val.push(v);
+            emit(r, v);
         }
-        col_ptr.push(row_idx.len());
+    };
+    let counts: Vec<usize> = (0..m)
+        .into_par_iter()
+        .map(|j| {
+            let mut count = 0;
+            merge(j, &mut |_, _| count += 1);
+            count
+        })
+        .collect();
+    let mut col_ptr = Vec::with_capacity(m + 1);
+    col_ptr.push(0);
+    for c in counts {
+        col_ptr.push(col_ptr[col_ptr.len() - 1] + c);
     }
+    let (mut row_idx, mut val) = (vec![0; col_ptr[m]], vec![0.0; col_ptr[m]]);
+    let cuts = column_cuts(m, MERGE_CHUNK);
+    let rows = split_columns(&cuts, |j| col_ptr[j], &mut row_idx);
+    let vals = split_columns(&cuts, |j| col_ptr[j], &mut val);
+    (cuts.par_windows(2).zip(rows).zip(vals)).for_each(|((w, rows), vals)| {
+        let mut k = 0;
+        for j in w[0]..w[1] {
+            merge(j, &mut |r, v| {
+                (rows[k], vals[k]) = (r, v);
+                k += 1;
+            });
+        }
+    });
     let symbolic = faer::sparse::SymbolicSparseColMat::new_checked(n, m, col_ptr, None, row_idx);
     Ok(SpMat::new(symbolic, val))
+}
+
+/// Columns merged by one task of [`lin_comb`].
+const MERGE_CHUNK: usize = 4096;
+
+/// The boundaries of consecutive ranges of `chunk` columns out of `m`: `0, chunk, …, m`.
+pub fn column_cuts(m: usize, chunk: usize) -> Vec<usize> {
+    (0..m).step_by(chunk.max(1)).chain([m]).collect()
+}
+
+/// `data` (from column `cuts[0]`) cut at the boundaries `cuts` of ranges of columns, column c
+/// starting at `offset(c)`: one disjoint slice per range, to fill the columns in parallel.
+pub fn split_columns<'a, T>(
+    cuts: &[usize],
+    offset: impl Fn(usize) -> usize,
+    mut data: &'a mut [T],
+) -> Vec<&'a mut [T]> {
+    let mut parts = Vec::with_capacity(cuts.len().saturating_sub(1));
+    for w in cuts.windows(2) {
+        let (part, rest) = std::mem::take(&mut data).split_at_mut(offset(w[1]) - offset(w[0]));
+        data = rest;
+        parts.push(part);
+    }
+    parts
 }
 
 /// True when `a` has bandwidth at most [`NARROW_BAND`] (1D meshes).

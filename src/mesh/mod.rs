@@ -7,8 +7,10 @@ pub mod gmsh;
 pub mod interval;
 pub mod structured;
 
+use crate::element::geometry::jacobian_from;
 use crate::element::reference::RefElement;
 use crate::error::{Error, Result};
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// An unstructured mesh of one element family (any vertex numbering; cells with every local
@@ -243,6 +245,16 @@ impl Mesh {
             return Err(err("no cell".into()));
         }
         let n = self.element.n_nodes();
+        if let Some(c) = (self.connectivity.iter())
+            .position(|cell| cell.len() != n || cell.iter().any(|&i| i >= self.nodes.len()))
+        {
+            return Err(err(format!(
+                "{}: {} nodes or an index out of range (expected {n} nodes below {})",
+                self.cell_name(c),
+                self.connectivity[c].len(),
+                self.nodes.len()
+            )));
+        }
         let mut points = self.element.quadrature();
         points.extend(
             self.element
@@ -250,29 +262,23 @@ impl Mesh {
                 .iter()
                 .map(|&a| (self.element.node(a), 0.0)),
         );
+        let tab = self.element.tabulate_at(points);
+        // (lowest, highest, largest |det J|) of every cell, in parallel.
+        let ranges: Vec<(f64, f64, f64)> = (0..self.connectivity.len())
+            .into_par_iter()
+            .map(|c| {
+                let x = self.cell_nodes(c);
+                let dets = (tab.points.iter())
+                    .map(|p| jacobian_from(&self.element, &x, &p.gradients).determinant());
+                dets.fold(
+                    (f64::INFINITY, f64::NEG_INFINITY, 0.0_f64),
+                    |(l, h, m), d| (l.min(d), h.max(d), m.max(d.abs())),
+                )
+            })
+            .collect();
         let mut orientation = Vec::with_capacity(self.connectivity.len());
-        for (c, cell) in self.connectivity.iter().enumerate() {
-            if cell.len() != n || cell.iter().any(|&i| i >= self.nodes.len()) {
-                return Err(err(format!(
-                    "{}: {} nodes or an index out of range (expected {n} nodes below {})",
-                    self.cell_name(c),
-                    cell.len(),
-                    self.nodes.len()
-                )));
-            }
-            let x = self.cell_nodes(c);
-            let dets: Vec<f64> = points
-                .iter()
-                .map(|(xi, _)| {
-                    crate::element::geometry::jacobian(&self.element, &x, *xi).determinant()
-                })
-                .collect();
-            let big = dets.iter().fold(0.0_f64, |m, d| m.max(d.abs()));
-            let (lo, hi) = dets
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &d| {
-                    (l.min(d), h.max(d))
-                });
+        for (c, &(lo, hi, big)) in ranges.iter().enumerate() {
+            let cell = &self.connectivity[c];
             if !big.is_finite() || !big.is_normal() && big > 0.0 {
                 return Err(err(format!(
                     "{} (nodes {:?}): det J = {big:.3e} is out of floating-point range \
@@ -297,7 +303,7 @@ impl Mesh {
 
     /// Refuses two nodes of the cells closer than 1e-9 of the smallest distance between two
     /// vertices of a cell (an unmerged seam: the body would fall apart along it), by a grid
-    /// hash of that spacing, O(nodes).
+    /// hash of twice that spacing, O(nodes).
     fn check_coincident(&self) -> Result<()> {
         let verts = self.element.vertices();
         let mut smallest = f64::INFINITY;
@@ -316,15 +322,19 @@ impl Mesh {
         if !(tol.is_normal() && tol.is_finite()) {
             return Ok(());
         }
-        let key = |x: [f64; 3]| x.map(|v| (v / tol).floor() as i64);
+        // Cells of side 2 tol: a node within tol of x lies in x's cell or, along each axis, in
+        // the neighbour on the side of the nearer face (8 cells).
+        let scaled = |x: [f64; 3]| x.map(|v| v / (2.0 * tol));
+        let key = |x: [f64; 3]| scaled(x).map(|v| v.floor() as i64);
         let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
         for i in (0..self.nodes.len()).filter(|&i| used[i]) {
             grid.entry(key(self.nodes[i])).or_default().push(i);
         }
         for i in (0..self.nodes.len()).filter(|&i| used[i]) {
             let k = key(self.nodes[i]);
-            for d in 0..27_i64 {
-                let o = [d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1];
+            let side = scaled(self.nodes[i]).map(|v| if v - v.floor() < 0.5 { -1 } else { 1 });
+            for d in 0..8_i64 {
+                let o: [i64; 3] = std::array::from_fn(|c| (d >> c & 1) * side[c]);
                 let near: [i64; 3] = std::array::from_fn(|c| k[c].saturating_add(o[c]));
                 for &j in grid.get(&near).into_iter().flatten() {
                     if j > i && norm(sub(self.nodes[i], self.nodes[j])) <= tol {
@@ -426,33 +436,39 @@ impl Mesh {
         Ok(())
     }
 
-    /// Every boundary face (a face of exactly one cell), in order of first appearance.
+    /// Every boundary face (a face of exactly one cell), in order of first appearance: the
+    /// cells' faces sorted by their vertices, those that appear once.
     pub fn boundary_faces(&self) -> Vec<Face> {
         let faces = self.element.faces();
         let verts = self.element.vertices();
-        let mut count: HashMap<Vec<usize>, (usize, usize, usize)> = HashMap::new();
-        let mut order = Vec::new();
-        for (c, cell) in self.connectivity.iter().enumerate() {
-            for (f, local) in faces.iter().enumerate() {
-                let mut key: Vec<usize> = local.iter().map(|&a| cell[a]).collect();
-                key.sort_unstable();
-                let e = count.entry(key.clone()).or_insert_with(|| {
-                    order.push(key);
-                    (0, c, f)
-                });
-                e.0 += 1;
-            }
-        }
-        order
-            .into_iter()
-            .filter_map(|key| {
-                let (n, c, f) = count[&key];
-                (n == 1).then(|| {
-                    let cell = &self.connectivity[c];
-                    let vertices: Vec<usize> = faces[f].iter().map(|&a| cell[a]).collect();
-                    let inside = centroid(verts.iter().map(|&a| self.nodes[cell[a]]));
-                    self.face(vertices, inside, (c, faces[f].clone()))
+        // (sorted vertices of the face (padded), cell, local face).
+        let mut entries: Vec<([usize; 4], usize, usize)> = (self.connectivity.par_iter())
+            .enumerate()
+            .flat_map_iter(|(c, cell)| {
+                faces.iter().enumerate().map(move |(f, local)| {
+                    let mut key = [usize::MAX; 4];
+                    for (v, &a) in key.iter_mut().zip(local) {
+                        *v = cell[a];
+                    }
+                    key.sort_unstable();
+                    (key, c, f)
                 })
+            })
+            .collect();
+        entries.par_sort_unstable();
+        let mut once: Vec<(usize, usize)> = (entries.chunk_by(|a, b| a.0 == b.0))
+            .filter_map(|face| match face {
+                [(_, c, f)] => Some((*c, *f)),
+                _ => None,
+            })
+            .collect();
+        once.sort_unstable();
+        once.into_iter()
+            .map(|(c, f)| {
+                let cell = &self.connectivity[c];
+                let vertices: Vec<usize> = faces[f].iter().map(|&a| cell[a]).collect();
+                let inside = centroid(verts.iter().map(|&a| self.nodes[cell[a]]));
+                self.face(vertices, inside, (c, faces[f].clone()))
             })
             .collect()
     }
