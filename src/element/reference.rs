@@ -31,16 +31,18 @@ pub struct RefElement {
     pub degree: usize,
 }
 
-/// A reference element's basis at its quadrature points ([`RefElement::tabulate`]).
+/// A reference element's basis at a list of points: its quadrature points
+/// ([`RefElement::tabulate`], what the element integrals expect) or any
+/// ([`RefElement::tabulate_at`]).
 #[derive(Debug, Clone)]
 pub struct Tabulation {
     /// The element.
     pub element: RefElement,
-    /// Its quadrature points, in [`RefElement::quadrature`]'s order.
+    /// The points, in the order given ([`RefElement::quadrature`]'s for `tabulate`).
     pub points: Vec<TabulatedPoint>,
 }
 
-/// One quadrature point: its weight, and the values and reference gradients of every basis
+/// One point: its weight, and the values and reference gradients of every basis
 /// function there ([`RefElement::eval`]).
 #[derive(Debug, Clone)]
 pub struct TabulatedPoint {
@@ -218,6 +220,7 @@ impl RefElement {
 
     /// The basis at the points `(ξ, weight)`.
     pub fn tabulate_at(&self, points: Vec<([f64; 3], f64)>) -> Tabulation {
+        let (linear, _) = self.linear();
         let points = (points.into_iter())
             .map(|(xi, weight)| {
                 let (values, gradients) = self.eval(xi);
@@ -225,7 +228,7 @@ impl RefElement {
                     weight,
                     values,
                     gradients,
-                    linear: self.linear().0.eval(xi).0,
+                    linear: linear.eval(xi).0,
                 }
             })
             .collect();

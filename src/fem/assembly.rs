@@ -3,7 +3,7 @@
 use crate::element::quadrature::gauss_legendre_01;
 use crate::element::segment::Segment;
 use crate::error::Result;
-use crate::linalg::sparse::split_columns;
+use crate::linalg::sparse::{balanced_cuts, split_columns};
 use crate::linalg::{SpMat, TripletBuilder};
 use nalgebra::DMatrix;
 use std::ops::Range;
@@ -71,7 +71,7 @@ const ASSEMBLY_CHUNK: usize = 8192;
 /// same dofs (`dofs(e)`, `None` dropped), without a global list of triplets: the pattern is formed
 /// first from the dof lists (rows of column j: the dofs of the elements holding j), then the
 /// element matrices are computed in parallel chunks of [`ASSEMBLY_CHUNK`] and added in element
-/// order, in parallel by ranges of columns. The result is the same matrix, bit for bit, as
+/// order, in parallel by ranges of columns (the dof lists stored once). The result is the same matrix, bit for bit, as
 /// [`assemble`] with the same elements: every entry sums its non-zero contributions in the same
 /// order (element, local row, local column), and an entry that receives none is not stored. Peak
 /// memory: the matrix and one chunk of element matrices (the triplets of a 3D Q1 stiffness took
@@ -155,10 +155,11 @@ impl Scratch {
                 at[a * mine.len() + c] = col_ptr[j] + k - first;
             }
         }
-        let m = m.as_slice();
+        debug_assert_eq!(m.shape(), (d.len(), d.len()));
+        let (m, stride) = (m.as_slice(), m.nrows());
         for a in (0..d.len()).filter(|&a| d[a] != NONE) {
             for (c, &(b, _)) in mine.iter().enumerate() {
-                let v = m[a + b * d.len()];
+                let v = m[a + b * stride];
                 if v != 0.0 {
                     let k = at[a * mine.len() + c];
                     val[k] += v;
@@ -255,23 +256,6 @@ impl ElementDofs {
         }
         (col_ptr, row_idx)
     }
-}
-
-/// The boundaries of about `parts` ranges of columns holding as many entries each (at least
-/// one column each), from 0 to the last column.
-fn balanced_cuts(col_ptr: &[usize], parts: usize) -> Vec<usize> {
-    let (n, total) = (col_ptr.len() - 1, col_ptr[col_ptr.len() - 1]);
-    let mut cuts = vec![0];
-    for p in 1..parts {
-        let end = col_ptr.partition_point(|&k| k < total * p / parts).min(n);
-        if end > cuts[cuts.len() - 1] {
-            cuts.push(end);
-        }
-    }
-    if n > cuts[cuts.len() - 1] {
-        cuts.push(n);
-    }
-    cuts
 }
 
 /// The matrix of the compressed columns without the entries not `touched`.

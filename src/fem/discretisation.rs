@@ -328,39 +328,48 @@ impl Discretisation {
         )
     }
 
+    /// Cell c's data for [`Discretisation::mass_model`]: its element mass, and for degree 2 its
+    /// mixed matrices on the velocity space's vertices (`vertex`: the H_h index of each node;
+    /// `map`: the element's local vertices, [`crate::element::reference::RefElement::linear`]).
+    fn cell_model(
+        &self,
+        tab: &Tabulation,
+        (vertex, map): (&[Option<usize>], &[usize]),
+        c: usize,
+    ) -> (ElementMass, Option<ElementMixed>) {
+        let (d, el, cell) = (self.dim(), self.mesh.element, &self.mesh.connectivity[c]);
+        let x = self.mesh.cell_nodes(c);
+        let mixed = (el.degree == 2).then(|| {
+            let (cm, bm) = self.cell_mixed(tab, &x);
+            // Every local vertex is a mesh vertex by construction of `vertex_flags`.
+            let verts: Vec<usize> = map.iter().filter_map(|&a| vertex[cell[a]]).collect();
+            ElementMixed {
+                c: cm,
+                b: bm,
+                vdofs: (0..d)
+                    .map(|comp| verts.iter().map(|v| v * d + comp).collect())
+                    .collect(),
+            }
+        });
+        let mass = ElementMass {
+            mass: self.cell_mass(tab, &x),
+            x,
+            dofs: self.cell_dofs(c),
+        };
+        (mass, mixed)
+    }
+
     /// Element data for the spaces (and the velocity space H_h for degree 2).
     pub fn mass_model(&self) -> MassModel {
         let (d, mesh) = (self.dim(), &self.mesh);
         let el = mesh.element;
         let (vertex, nv) = self.vertex_index();
-        let (_, map) = el.linear();
-        let tab = el.tabulate();
-        let cells: Vec<(ElementMass, Option<ElementMixed>)> = (mesh.connectivity.par_iter())
-            .enumerate()
-            .map(|(c, cell)| {
-                let x = mesh.cell_nodes(c);
-                let mixed = (el.degree == 2).then(|| {
-                    let (cm, bm) = self.cell_mixed(&tab, &x);
-                    // Every local vertex is a mesh vertex by construction of `vertex_flags`.
-                    let verts: Vec<usize> = map.iter().filter_map(|&a| vertex[cell[a]]).collect();
-                    ElementMixed {
-                        c: cm,
-                        b: bm,
-                        vdofs: (0..d)
-                            .map(|comp| verts.iter().map(|v| v * d + comp).collect())
-                            .collect(),
-                    }
-                });
-                let mass = ElementMass {
-                    mass: self.cell_mass(&tab, &x),
-                    x,
-                    dofs: self.cell_dofs(c),
-                };
-                (mass, mixed)
-            })
-            .collect();
+        let (tab, (_, map)) = (el.tabulate(), el.linear());
         let (elements, mixed): (Vec<ElementMass>, Vec<Option<ElementMixed>>) =
-            cells.into_iter().unzip();
+            (0..mesh.connectivity.len())
+                .into_par_iter()
+                .map(|c| self.cell_model(&tab, (&vertex, &map), c))
+                .unzip();
         let mixed: Vec<ElementMixed> = mixed.into_iter().flatten().collect();
         let mut contact_dofs: Vec<usize> = self
             .contact_vertices

@@ -114,7 +114,8 @@ pub fn element_mass(tab: &Tabulation, x: &[[f64; 3]], rho: f64) -> DMatrix<f64> 
 /// with ψ the degree-1 basis of the same shape.
 pub fn mixed_matrices(tab: &Tabulation, x: &[[f64; 3]], rho: f64) -> (DMatrix<f64>, DMatrix<f64>) {
     let el = &tab.element;
-    let (n, nl) = (el.n_nodes(), el.linear().0.n_nodes());
+    let n = el.n_nodes();
+    let nl = tab.points.first().map_or(0, |p| p.linear.len());
     let mut c = DMatrix::zeros(nl, nl);
     let mut b = DMatrix::zeros(nl, n);
     for p in &tab.points {
@@ -168,4 +169,56 @@ pub fn stress(
 pub fn von_mises(sigma: &Matrix3<f64>) -> f64 {
     let s = sigma - Matrix3::identity() * (sigma.trace() / 3.0);
     (1.5 * s.component_mul(&s).sum()).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The element stiffness as it was written before the tabulated basis, one entry at a time
+    /// (`K_(a,c),(b,e) += |J| w (λ ∂_c φ_a ∂_e φ_b + μ ∂_e φ_a ∂_c φ_b + μ δ_ce ∇φ_a·∇φ_b)`).
+    fn entry_by_entry(el: &RefElement, x: &[[f64; 3]], lame: Lame) -> DMatrix<f64> {
+        let (n, d) = (el.n_nodes(), el.dim);
+        let mut k = DMatrix::zeros(n * d, n * d);
+        for (xi, w) in el.quadrature() {
+            let (_, g, det) = physical(el, x, xi);
+            for (a, ga) in g.iter().enumerate() {
+                for (b, gb) in g.iter().enumerate() {
+                    let dot: f64 = (0..d).map(|l| ga[l] * gb[l]).sum();
+                    for c in 0..d {
+                        for e in 0..d {
+                            let mut s = lame.lambda * ga[c] * gb[e] + lame.mu * ga[e] * gb[c];
+                            if c == e {
+                                s += lame.mu * dot;
+                            }
+                            k[(a * d + c, b * d + e)] += w * det * s;
+                        }
+                    }
+                }
+            }
+        }
+        k
+    }
+
+    /// The stiffness by rows over the tabulated basis is the entry-by-entry stiffness bit for
+    /// bit, on a distorted cell of every family.
+    #[test]
+    fn the_stiffness_by_rows_is_the_entry_by_entry_one_to_the_bit() {
+        let lame = Lame::from_young_poisson(2.1, 0.3);
+        for el in RefElement::every() {
+            let x: Vec<[f64; 3]> = (0..el.n_nodes())
+                .map(|a| {
+                    let p = el.node(a);
+                    let wobble = |k: usize| 0.07 * ((a * 3 + k) as f64).sin();
+                    std::array::from_fn(|k| if k < el.dim { p[k] + wobble(k) } else { 0.0 })
+                })
+                .collect();
+            let (ours, theirs) = (
+                element_stiffness(&el.tabulate(), &x, lame),
+                entry_by_entry(&el, &x, lame),
+            );
+            let bits = |m: &DMatrix<f64>| m.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&ours), bits(&theirs), "{el:?}");
+        }
+    }
 }

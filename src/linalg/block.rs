@@ -131,10 +131,7 @@ impl<T: BlockValue> Clone for BlockSym<T> {
 /// First block column of each of the [`PARTS`] of equal work (and the end), from the block
 /// columns' starts `ptr`.
 fn cuts(ptr: &[usize]) -> Vec<usize> {
-    let (blocks, nodes) = (ptr[ptr.len() - 1], ptr.len() - 1);
-    (0..=PARTS)
-        .map(|p| ptr.partition_point(|&q| q < blocks * p / PARTS).min(nodes))
-        .collect()
+    super::sparse::balanced_cuts(ptr, PARTS)
 }
 
 /// Dofs per node of the square `a` numbered node by node (a vector field in 2D or 3D): the b ∈
@@ -198,8 +195,8 @@ impl BlockSym {
         (chunks.par_windows(2).zip(idxs).zip(vals)).for_each(|((w, idx), val)| {
             let mut at = 0;
             for jb in w[0]..w[1] {
-                for (k, r) in firsts(jb) {
-                    idx[at] = (r / b) as u32;
+                for (k, row) in firsts(jb) {
+                    idx[at] = (row / b) as u32;
                     // 2 × 2 blocks row-major, 3 × 3 column-major ([`BlockSym::upper_part_any`]).
                     for e in 0..b * b {
                         let (r, c) = if upper {

@@ -1,5 +1,6 @@
 //! Sparse linear algebra on top of faer, one concept per file:
-//! - [`sparse`]: the compressed-column matrix, its construction from triplets, `a X + b Y`;
+//! - [`sparse`]: the compressed-column matrix, its construction from triplets, `a X + b Y`, its
+//!   arrays cut by ranges of columns (to fill them in parallel);
 //! - [`products`]: `A x` and `Aᵀ x`;
 //! - [`quadratic`]: `xᵀ A x` (energies);
 //! - [`vectors`]: inner products and vector updates;

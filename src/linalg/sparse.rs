@@ -114,7 +114,8 @@ pub(super) fn csc(a: &SpMat) -> (&[usize], &[usize], &[f64]) {
     (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val())
 }
 
-/// The diagonal of a square sparse matrix (duplicates summed).
+/// The diagonal of a sparse matrix (compressed columns, rows sorted, as every matrix here is
+/// built), by a search in each column, in parallel.
 pub fn diagonal(a: &SpMat) -> Vec<f64> {
     use rayon::prelude::*;
     let (cp, ri, v) = csc(a);
@@ -198,19 +199,29 @@ pub fn lin_comb(a: f64, x: &SpMat, b: f64, y: &SpMat) -> Result<SpMat> {
 const MERGE_CHUNK: usize = 4096;
 
 /// The boundaries of consecutive ranges of `chunk` columns out of `m`: `0, chunk, …, m`.
-pub fn column_cuts(m: usize, chunk: usize) -> Vec<usize> {
+pub(crate) fn column_cuts(m: usize, chunk: usize) -> Vec<usize> {
     (0..m).step_by(chunk.max(1)).chain([m]).collect()
 }
 
-/// `data` (from column `cuts[0]`) cut at the boundaries `cuts` of ranges of columns, column c
-/// starting at `offset(c)`: one disjoint slice per range, to fill the columns in parallel.
-pub fn split_columns<'a, T>(
+/// The boundaries of `parts` ranges of columns holding about as many entries each (some may be
+/// empty), from the columns' starts `ptr`: `0, …, m`.
+pub(crate) fn balanced_cuts(ptr: &[usize], parts: usize) -> Vec<usize> {
+    let (total, m) = (ptr[ptr.len() - 1], ptr.len() - 1);
+    let cut = |p: usize| ptr.partition_point(|&q| q < total * p / parts).min(m);
+    (0..parts).map(cut).chain([m]).collect()
+}
+
+/// `data` (from column `cuts[0]`) cut at the increasing boundaries `cuts` of ranges of columns,
+/// column c starting at `offset(c)`: one disjoint slice per range, to fill the columns in
+/// parallel. What follows the last range's columns is left out (e.g. a padding value).
+pub(crate) fn split_columns<'a, T>(
     cuts: &[usize],
     offset: impl Fn(usize) -> usize,
     mut data: &'a mut [T],
 ) -> Vec<&'a mut [T]> {
     let mut parts = Vec::with_capacity(cuts.len().saturating_sub(1));
     for w in cuts.windows(2) {
+        debug_assert!(offset(w[0]) <= offset(w[1]) && offset(w[1]) - offset(w[0]) <= data.len());
         let (part, rest) = std::mem::take(&mut data).split_at_mut(offset(w[1]) - offset(w[0]));
         data = rest;
         parts.push(part);
@@ -241,4 +252,52 @@ pub fn to_dense(a: &SpMat) -> nalgebra::DMatrix<f64> {
         d[(i, j)] += v;
     }
     d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::testing::block_matrix;
+
+    #[test]
+    fn cuts_cover_every_column_once_even_when_empty() {
+        assert_eq!(column_cuts(0, 5), vec![0]);
+        assert_eq!(column_cuts(10, 5), vec![0, 5, 10]);
+        assert_eq!(column_cuts(11, 5), vec![0, 5, 10, 11]);
+        // No entry at all, and entries only in the first column.
+        assert_eq!(balanced_cuts(&[0, 0, 0], 2), vec![0, 0, 2]);
+        assert_eq!(balanced_cuts(&[0, 4, 4, 4], 2), vec![0, 1, 3]);
+        assert_eq!(balanced_cuts(&[0, 2, 4, 6, 8], 4), vec![0, 1, 2, 3, 4]);
+        // The slices follow the columns' starts; what follows the last column is left out.
+        let ptr = [0, 2, 2, 5];
+        let mut data = [1, 1, 3, 3, 3, 9];
+        let parts = split_columns(&[0, 1, 3], |c| ptr[c], &mut data);
+        assert_eq!(parts, [&mut [1, 1][..], &mut [3, 3, 3][..]]);
+        assert!(split_columns(&[0], |c| ptr[c], &mut data).is_empty());
+    }
+
+    /// The parallel diagonal and `a X + b Y` against their definitions, entry by entry, on a
+    /// matrix of 3 × 3 blocks and a rectangular one.
+    #[test]
+    fn diagonal_and_lin_comb_match_their_definitions() {
+        let x = block_matrix(9, 3);
+        let mut t = TripletBuilder::new(27, 27);
+        for i in 0..27 {
+            t.add(i, (i * 5) % 27, 0.1 * i as f64);
+        }
+        let y = t.build().unwrap();
+        let sum = lin_comb(2.0, &x, -0.5, &y).unwrap();
+        let (dx, dy) = (to_dense(&x), to_dense(&y));
+        let ds = to_dense(&sum);
+        for i in 0..27 {
+            for j in 0..27 {
+                assert_eq!(ds[(i, j)], 2.0 * dx[(i, j)] + -0.5 * dy[(i, j)]);
+            }
+            assert_eq!(diagonal(&sum)[i], ds[(i, i)]);
+        }
+        let mut t = TripletBuilder::new(2, 3);
+        t.add(1, 1, 5.0);
+        t.add(0, 2, 7.0);
+        assert_eq!(diagonal(&t.build().unwrap()), vec![0.0, 5.0]);
+    }
 }

@@ -245,40 +245,18 @@ impl Mesh {
             return Err(err("no cell".into()));
         }
         let n = self.element.n_nodes();
-        if let Some(c) = (self.connectivity.iter())
-            .position(|cell| cell.len() != n || cell.iter().any(|&i| i >= self.nodes.len()))
-        {
-            return Err(err(format!(
-                "{}: {} nodes or an index out of range (expected {n} nodes below {})",
-                self.cell_name(c),
-                self.connectivity[c].len(),
-                self.nodes.len()
-            )));
-        }
-        let mut points = self.element.quadrature();
-        points.extend(
-            self.element
-                .vertices()
-                .iter()
-                .map(|&a| (self.element.node(a), 0.0)),
-        );
-        let tab = self.element.tabulate_at(points);
-        // (lowest, highest, largest |det J|) of every cell, in parallel.
-        let ranges: Vec<(f64, f64, f64)> = (0..self.connectivity.len())
-            .into_par_iter()
-            .map(|c| {
-                let x = self.cell_nodes(c);
-                let dets = (tab.points.iter())
-                    .map(|p| jacobian_from(&self.element, &x, &p.gradients).determinant());
-                dets.fold(
-                    (f64::INFINITY, f64::NEG_INFINITY, 0.0_f64),
-                    |(l, h, m), d| (l.min(d), h.max(d), m.max(d.abs())),
-                )
-            })
-            .collect();
+        let ranges = self.det_ranges();
         let mut orientation = Vec::with_capacity(self.connectivity.len());
-        for (c, &(lo, hi, big)) in ranges.iter().enumerate() {
+        for (c, range) in ranges.into_iter().enumerate() {
             let cell = &self.connectivity[c];
+            let Some((lo, hi, big)) = range else {
+                return Err(err(format!(
+                    "{}: {} nodes or an index out of range (expected {n} nodes below {})",
+                    self.cell_name(c),
+                    cell.len(),
+                    self.nodes.len()
+                )));
+            };
             if !big.is_finite() || !big.is_normal() && big > 0.0 {
                 return Err(err(format!(
                     "{} (nodes {:?}): det J = {big:.3e} is out of floating-point range \
@@ -299,6 +277,31 @@ impl Mesh {
         }
         self.check_neighbours(&orientation)?;
         self.check_coincident()
+    }
+
+    /// `(lowest, highest, largest |det J|)` of every cell over its quadrature points and
+    /// vertices, in parallel (the basis tabulated once); None for a cell without the element's
+    /// number of nodes or with a node index out of range.
+    fn det_ranges(&self) -> Vec<Option<(f64, f64, f64)>> {
+        let el = &self.element;
+        let mut points = el.quadrature();
+        points.extend(el.vertices().iter().map(|&a| (el.node(a), 0.0)));
+        let tab = el.tabulate_at(points);
+        let n = el.n_nodes();
+        (self.connectivity.par_iter().enumerate())
+            .map(|(c, cell)| {
+                if cell.len() != n || cell.iter().any(|&i| i >= self.nodes.len()) {
+                    return None;
+                }
+                let x = self.cell_nodes(c);
+                let dets =
+                    (tab.points.iter()).map(|p| jacobian_from(el, &x, &p.gradients).determinant());
+                Some(dets.fold(
+                    (f64::INFINITY, f64::NEG_INFINITY, 0.0_f64),
+                    |(l, h, m), d| (l.min(d), h.max(d), m.max(d.abs())),
+                ))
+            })
+            .collect()
     }
 
     /// Refuses two nodes of the cells closer than 1e-9 of the smallest distance between two
@@ -365,7 +368,8 @@ impl Mesh {
     /// cell. Written against the face's canonical orientation, the outward normals of the two
     /// cells must have opposite signs. The test is combinatorial: exact on curved (P2/Q2) faces,
     /// one sort of the cells' faces, O(cells log cells) (hertz3d's n = 24 sphere, 55 296
-    /// cells: 33–62 ms, against 0.8–1.3 s for the Jacobians above, on a loaded machine).
+    /// cells: 33–62 ms, against 0.8–1.3 s for the Jacobians above on a loaded machine, before
+    /// they were computed from a tabulated basis on both cores).
     ///
     /// It is also the divergence theorem's check: `Σ_K |K| = (1/d) Σ_K ∮_{∂K} x·n_K`, and the
     /// contributions of an interior face cancel exactly when its two cells induce opposite
@@ -388,10 +392,7 @@ impl Mesh {
             Vec::with_capacity(self.connectivity.len() * faces.len());
         for (c, cell) in self.connectivity.iter().enumerate() {
             for (local, side) in faces.iter().zip(&sides) {
-                let mut list = [usize::MAX; 4];
-                for (v, &a) in list.iter_mut().zip(local) {
-                    *v = cell[a];
-                }
+                let mut list = face_list(cell, local);
                 let out = orientation[c] * side * list_orientation(&list[..local.len()]);
                 list.sort_unstable();
                 entries.push((list, c, out));
@@ -436,23 +437,21 @@ impl Mesh {
         Ok(())
     }
 
-    /// Every boundary face (a face of exactly one cell), in order of first appearance: the
-    /// cells' faces sorted by their vertices, those that appear once.
+    /// Every boundary face (a face of exactly one cell), in order of first appearance (cell,
+    /// then local face): found as the keys that appear once among the cells' faces sorted by
+    /// their vertices.
     pub fn boundary_faces(&self) -> Vec<Face> {
         let faces = self.element.faces();
         let verts = self.element.vertices();
         // (sorted vertices of the face (padded), cell, local face).
-        let mut entries: Vec<([usize; 4], usize, usize)> = (self.connectivity.par_iter())
-            .enumerate()
-            .flat_map_iter(|(c, cell)| {
-                faces.iter().enumerate().map(move |(f, local)| {
-                    let mut key = [usize::MAX; 4];
-                    for (v, &a) in key.iter_mut().zip(local) {
-                        *v = cell[a];
-                    }
-                    key.sort_unstable();
-                    (key, c, f)
-                })
+        let nf = faces.len();
+        let mut entries: Vec<([usize; 4], usize, usize)> = (0..self.connectivity.len() * nf)
+            .into_par_iter()
+            .map(|k| {
+                let (c, f) = (k / nf, k % nf);
+                let mut key = face_list(&self.connectivity[c], &faces[f]);
+                key.sort_unstable();
+                (key, c, f)
             })
             .collect();
         entries.par_sort_unstable();
@@ -585,6 +584,16 @@ impl Mesh {
     }
 }
 
+/// The global vertices of the local face `local` of `cell`, in the face's order, padded with
+/// `usize::MAX` to four.
+fn face_list(cell: &[usize], local: &[usize]) -> [usize; 4] {
+    let mut list = [usize::MAX; 4];
+    for (v, &a) in list.iter_mut().zip(local) {
+        *v = cell[a];
+    }
+    list
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -706,5 +715,50 @@ mod tests {
         m.connectivity[3] = vec![5, 0, 4];
         let e = m.check().unwrap_err().to_string();
         assert!(e.contains("node 3 and node 5 coincide"), "{e}");
+    }
+
+    /// The grid of the coincident-node search, cells of side 2 tol, looks in the 8 cells a
+    /// node within tol can lie in: pairs 0.9 tol apart along an axis or a diagonal are found
+    /// wherever they fall in the grid (shifts of the mesh, negative coordinates), and pairs
+    /// 1.1 tol apart are not coincident (the fan is then cut along 3–4, which is valid).
+    #[test]
+    fn coincident_nodes_are_found_wherever_they_fall_in_the_grid() {
+        // The fan's smallest vertex distance is its centre's √2/2.
+        let tol = 1e-9 * 0.5_f64.sqrt();
+        for shift in [-1.3, -0.7137, 0.0, 0.25, 3.1, 1e3 + 0.123] {
+            for dir in [
+                [1.0, 0.0],
+                [-1.0, 0.0],
+                [0.0, 1.0],
+                [0.6, -0.8],
+                [-0.6, -0.8],
+            ] {
+                for (factor, coincide) in [(0.9, true), (1.1, false)] {
+                    let mut m = fan([0.5, 0.5, 0.0]);
+                    let at = [dir[0] * factor * tol, dir[1] * factor * tol];
+                    m.nodes.push([at[0], 1.0 + at[1], 0.0]);
+                    m.connectivity[3] = vec![5, 0, 4];
+                    for x in &mut m.nodes {
+                        *x = [x[0] + shift, x[1] - shift, 0.0];
+                    }
+                    let found = m.check().is_err_and(|e| e.to_string().contains("coincide"));
+                    assert_eq!(found, coincide, "shift {shift}, {dir:?} × {factor} tol");
+                }
+            }
+        }
+    }
+
+    /// A cell with a node index out of range is named only when no earlier cell is invalid:
+    /// the checks report the first bad cell whatever its fault.
+    #[test]
+    fn the_first_bad_cell_is_named_whatever_its_fault() {
+        let mut m = fan([0.5, 0.5, 0.0]);
+        m.connectivity[1] = vec![1, 1, 4];
+        m.connectivity[3] = vec![3, 0, 9];
+        let e = m.check().unwrap_err().to_string();
+        assert!(e.contains("cell 1") && e.contains("degenerate"), "{e}");
+        m.connectivity[1] = vec![1, 2, 4];
+        let e = m.check().unwrap_err().to_string();
+        assert!(e.contains("cell 3") && e.contains("out of range"), "{e}");
     }
 }
