@@ -118,10 +118,8 @@ fn number_in(path: &str) -> Option<f64> {
 /// will size its pool, from the first of [`THREAD_VARIABLES`] set (0: one per core) or the
 /// cores, without starting it (which would panic if a thread could not start).
 fn thread_reserve(reserved: f64) -> f64 {
-    let workers = THREAD_VARIABLES
-        .iter()
-        .find_map(|v| std::env::var(v).ok().filter(|t| !t.is_empty()))
-        .and_then(|t| t.parse::<usize>().ok())
+    let workers = thread_setting(|v| std::env::var(v).ok())
+        .and_then(|(_, t)| t.parse::<usize>().ok())
         .filter(|&t| t > 0)
         .or_else(|| std::thread::available_parallelism().ok().map(|n| n.get()))
         .unwrap_or(1);
@@ -234,15 +232,19 @@ pub const THREAD_VARIABLES: [&str; 2] = ["RAYON_NUM_THREADS", "RAYON_RS_NUM_CPUS
 /// `cores`: each worker takes a stack and the report schedules a run on each (10⁴ made a
 /// one-step spring take 35 s, 10⁵ never started). The error names the variable.
 pub fn check_threads(lookup: impl Fn(&str) -> Option<String>, cores: usize) -> crate::Result<()> {
-    for name in THREAD_VARIABLES {
-        // Unset or empty: the next variable, then rayon's default. Parsed as rayon parses it
-        // (no trimming); a valid first variable is the one rayon takes.
-        let Some(text) = lookup(name).filter(|t| !t.is_empty()) else {
-            continue;
-        };
-        return check_thread_count(name, &text, cores);
+    // Parsed as rayon parses it (no trimming); a valid first variable is the one rayon takes.
+    match thread_setting(lookup) {
+        Some((name, text)) => check_thread_count(name, &text, cores),
+        None => Ok(()),
     }
-    Ok(())
+}
+
+/// The first of [`THREAD_VARIABLES`] set and not empty, with its text, as rayon reads them
+/// (unset or empty: the next variable, then rayon's default).
+fn thread_setting(lookup: impl Fn(&str) -> Option<String>) -> Option<(&'static str, String)> {
+    THREAD_VARIABLES
+        .into_iter()
+        .find_map(|name| Some((name, lookup(name).filter(|t| !t.is_empty())?)))
 }
 
 /// One variable of [`check_threads`]: `text` a whole number up to the cap.

@@ -68,23 +68,24 @@ pub fn assemble<'a>(
 const ASSEMBLY_CHUNK: usize = 8192;
 
 /// Assembles `Σ_e scatter(local(e))` for `count` elements whose matrix rows and columns are the
-/// same dofs (`dofs(e)`, `None` dropped), without a global list of triplets: the pattern is formed
-/// first from the dof lists (rows of column j: the dofs of the elements holding j), then the
-/// element matrices are computed in parallel chunks of [`ASSEMBLY_CHUNK`] and added in element
-/// order, in parallel by ranges of columns (the dof lists stored once). The result is the same matrix, bit for bit, as
-/// [`assemble`] with the same elements: every entry sums its non-zero contributions in the same
-/// order (element, local row, local column), and an entry that receives none is not stored. Peak
-/// memory: the matrix and one chunk of element matrices (the triplets of a 3D Q1 stiffness took
-/// 3.5 times the matrix). The 10⁶-dof sphere's stiffness (hertz3d n = 44, 84M entries): 10.3 s
-/// with one thread adding by a binary search per entry, 5.6 s.
+/// same dofs (`dofs(e)`, `None` dropped), without a global list of triplets: the dof lists are
+/// stored once and the pattern formed from them (rows of column j: the dofs of the elements
+/// holding j), then the element matrices are computed in parallel chunks of [`ASSEMBLY_CHUNK`]
+/// and added in element order, in parallel by ranges of columns. The result is the same matrix,
+/// bit for bit, as [`assemble`] with the same elements: every entry sums its non-zero
+/// contributions in the same order (element, local row, local column), and an entry that
+/// receives none is not stored. Peak memory: the matrix, the dof lists and one chunk of element
+/// matrices (the triplets of a 3D Q1 stiffness took 3.5 times the matrix). The 10⁶-dof sphere's
+/// stiffness (hertz3d n = 44, 84M entries): 10.3 s with one thread adding by a binary search per
+/// entry, 5.6 s.
 pub fn assemble_square(
     n: usize,
     count: usize,
-    dofs: impl Fn(usize) -> Vec<Option<usize>> + Sync,
+    dofs: impl Fn(usize) -> Vec<Option<usize>>,
     local: impl Fn(usize) -> DMatrix<f64> + Sync,
 ) -> Result<SpMat> {
     use rayon::prelude::*;
-    let dofs = ElementDofs::new(n, count, &dofs)?;
+    let dofs = ElementDofs::new(n, count, dofs)?;
     let pattern = dofs.pattern(n);
     let mut val = vec![0.0; pattern.1.len()];
     let mut touched = vec![false; pattern.1.len()];
@@ -181,11 +182,7 @@ struct ElementDofs {
 
 impl ElementDofs {
     /// The lists `dofs(e)` of `count` elements; errors on a dof out of range.
-    fn new(
-        n: usize,
-        count: usize,
-        dofs: &(impl Fn(usize) -> Vec<Option<usize>> + Sync),
-    ) -> Result<Self> {
+    fn new(n: usize, count: usize, dofs: impl Fn(usize) -> Vec<Option<usize>>) -> Result<Self> {
         let mut ptr = Vec::with_capacity(count + 1);
         ptr.push(0);
         let mut flat = Vec::new();

@@ -55,7 +55,7 @@ fn local(loc: &Local, r: &DVector<f64>, p: usize) -> [f64; 3] {
 }
 
 /// One sweep over the points: each gets the exact solution of its own problem.
-pub(crate) fn sweep(loc: &Local, r: &mut DVector<f64>) {
+fn sweep(loc: &Local, r: &mut DVector<f64>) {
     let dim = loc.dim;
     for p in 0..loc.points.len() {
         let x = local(loc, r, p);
@@ -76,7 +76,7 @@ pub(crate) fn sweep(loc: &Local, r: &mut DVector<f64>) {
 /// positive (the friction force presses the point into the plane at least as much as the normal
 /// force lifts it: μ ≥ A_NN/|A_NT|) has no r_N > 0 and is not a candidate. At round-off from the
 /// cone's edge the candidate with the smallest local Alart–Curnier residual is taken.
-pub(crate) fn solve_point(mu: f64, a: &[[f64; 3]; 3], b: &[f64], current: &[f64]) -> [f64; 3] {
+fn solve_point(mu: f64, a: &[[f64; 3]; 3], b: &[f64], current: &[f64]) -> [f64; 3] {
     let dim = b.len();
     let mut r = [0.0; 3];
     if b[0] >= 0.0 {
