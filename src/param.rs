@@ -95,6 +95,11 @@ impl Params {
         self.0.get(p.name).copied()
     }
 
+    /// True when parameter `name` was set.
+    pub fn is_set(&self, name: &str) -> bool {
+        self.0.contains_key(name)
+    }
+
     /// Sets parameter `name`.
     pub fn set(&mut self, name: &str, value: f64) -> &mut Self {
         self.0.insert(name.to_string(), value);

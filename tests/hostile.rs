@@ -958,12 +958,12 @@ fn fields_that_break_or_do_nothing_are_named_themselves() {
         (
             "cases/bar1d.toml".to_string(),
             &["--contact", "nitsche", "--nitsche-gamma", "1e-308"][..],
-            &["`run.nitsche_gamma`: 1e-308", "too small"][..],
+            &["`run.nitsche_gamma (--nitsche-gamma)`: 1e-308", "too small"][..],
         ),
         (
             "cases/bar1d.toml".to_string(),
             &["--contact", "nitsche", "--nitsche-gamma", "1e308"],
-            &["`run.nitsche_gamma`: 1e308", "γ and 1/γ"],
+            &["`run.nitsche_gamma (--nitsche-gamma)`: 1e308", "γ and 1/γ"],
         ),
         // A slope tilts gravity: without gravity it changed nothing.
         (
@@ -1520,12 +1520,23 @@ fn options_the_run_would_ignore_are_refused_naming_the_flag_or_field() {
             "clarabel",
         ];
         let needles = [
-            "`run.contact_solver`: \"clarabel\"",
+            "`run.contact_solver (--contact-solver)`: \"clarabel\"",
             scheme,
             "not through an LCP",
         ];
         assert_clear_error(&run(&args), &needles);
     }
+    // The same parameter written in the case file is named as the file's field, not as a flag.
+    let text = std::fs::read_to_string("cases/spring_mass.toml").unwrap();
+    let file = dir.path().join("euler.toml");
+    std::fs::write(
+        &file,
+        text.replacen("scheme = \"newmark\"", "scheme = \"backward_euler\"", 1),
+    )
+    .unwrap();
+    let out = run(&[file.to_str().unwrap()]);
+    assert_clear_error(&out, &["`run.beta`", "scheme `backward_euler`"]);
+    assert!(!stderr(&out).contains("--beta"), "{}", stderr(&out));
     // The case file's β and γ are Newmark's: another scheme drops them rather than refuse.
     let out = run(&["cases/bar1d.toml", "--scheme", "backward_euler"]);
     assert!(out.status.success(), "{}", stderr(&out));
@@ -1695,7 +1706,7 @@ fn outputs_and_sweeps_that_would_come_to_nothing_are_refused_before_the_work() {
     );
 }
 
-/// A field is named as the case file has it (`--beta 0` was `beta`, `--elements 0` on the bar
+/// A field is named as the case file has it, with the flag that set it (`--beta 0` was `beta`, `--elements 0` on the bar
 /// `elements`), a grading beyond the generator's range by `mesh.grading` (1e300 was blamed on
 /// the density), two bars beyond the memory by `mesh.degree` or `mesh.elements`, and a mass
 /// beyond the round-off of the stiffness by `run.dt` with the mass.
@@ -1706,7 +1717,7 @@ fn fields_are_named_as_in_the_case_file() {
     let o = o.to_str().unwrap();
     let run = |args: &[&str]| run(args, &["--out", o]);
     for (flag, needle) in [
-        ("--beta", "`run.beta`: 0.0"),
+        ("--beta", "`run.beta (--beta)`: 0.0"),
         ("--elements", "`mesh.elements (--elements)`: 0"),
     ] {
         let out = run(&[

@@ -396,12 +396,30 @@ fn an_overridden_field_is_named_where_it_was_set() {
     assert!(named(&cli, "mesh.elements").contains("`mesh.elements (--elements)`"));
     assert!(named(&cli, "run.dt").contains("`run.dt (--dt)`"));
     assert!(named(&cli, "run.t_end").contains("`run.t_end`"));
+    // Every override a field can come from: the mesh's cells and the scheme's options too.
+    let mut given = Overrides {
+        cells: Some("quad".into()),
+        ..cli.clone()
+    };
+    given.options.params.set("alpha", -0.1);
+    given.options.contact_solver = Some("clarabel".into());
+    assert!(named(&given, "mesh.cells").contains("`mesh.cells (--cells)`"));
+    assert!(named(&given, "run.alpha").contains("`run.alpha (--alpha)`"));
+    assert!(named(&given, "run.contact_solver").contains("(--contact-solver)`"));
+    // A parameter the overrides did not set is the case file's own.
+    assert!(named(&given, "run.beta").contains("`run.beta`"));
+    assert!(named(&given, "run.linear_solver").contains("`run.linear_solver`"));
     let table = |table: &str, levels| Overrides {
         origin: Some(Origin {
             table: table.into(),
             levels,
+            choice: if table.starts_with("sweep") {
+                "schemes"
+            } else {
+                "scheme"
+            },
         }),
-        ..cli.clone()
+        ..given.clone()
     };
     let refined = table("sweep.r", ["refinements"; 2]);
     assert!(named(&refined, "mesh.elements").contains("(sweep.r.refinements)`"));
@@ -410,4 +428,6 @@ fn an_overridden_field_is_named_where_it_was_set() {
     assert!(named(&sweep, "mesh.elements").contains("(sweep.orders.elements)`"));
     let history = table("history.energy", ["dts", "elements"]);
     assert!(named(&history, "run.dt").contains("`run.dt (history.energy.dts)`"));
+    assert!(named(&sweep, "run.alpha").contains("`run.alpha (sweep.orders.schemes)`"));
+    assert!(named(&history, "run.alpha").contains("`run.alpha (history.energy.scheme)`"));
 }

@@ -341,7 +341,7 @@ impl RunSpec {
         for p in crate::methods::all_params() {
             if let (Some(v), false) = (self.params().value(p), own.contains(&p.name)) {
                 return Err(Error::invalid(
-                    format!("run.{} (--{})", p.name, p.name.replace('_', "-")),
+                    format!("run.{}", p.name),
                     v,
                     &format!(
                         "does not apply to scheme `{}` with contact `{}`, whose parameters are: {}",
@@ -513,6 +513,21 @@ pub struct Origin {
     /// The table's fields that gave `dt` and `elements`: `dt` and `elements`, or `refinements`
     /// for both; a history's `dts`.
     pub levels: [&'static str; 2],
+    /// The table's field that gave the scheme, its options and parameters: a sweep's `schemes`,
+    /// a history's `scheme`.
+    pub choice: &'static str,
+}
+
+impl Origin {
+    /// The table's field that gave the override `key` ([`Overrides::key_of`]).
+    fn field_of<'a>(&self, key: &'a str) -> &'a str {
+        match key {
+            "dt" => self.levels[0],
+            "elements" => self.levels[1],
+            "t_end" | "friction" | "degree" | "cells" => key,
+            _ => self.choice,
+        }
+    }
 }
 
 impl Overrides {
@@ -554,29 +569,36 @@ impl Overrides {
 
     /// `e` with the field it names followed by where the overrides set its value, when they did:
     /// `run.dt (--dt)` from the command line, `run.dt (sweep.orders.dt)` from a sweep, whose
-    /// values are not the case file's `[run] dt`.
+    /// values are not the case file's `[run] dt`; a scheme's parameter from a sweep names its
+    /// scheme entry (`run.alpha (sweep.orders.schemes)`).
     pub fn named(&self, e: Error) -> Error {
-        e.with_field(|field| {
-            let key = match field {
-                "run.dt" if self.dt.is_some() => "dt",
-                "run.t_end" if self.t_end.is_some() => "t_end",
-                "mesh.elements" if self.elements.is_some() => "elements",
-                "mesh.degree" if self.degree.is_some() => "degree",
-                "contact.friction" if self.friction.is_some() => "friction",
-                _ => return field.to_string(),
-            };
-            match &self.origin {
+        e.with_field(|field| match self.key_of(field) {
+            None => field.to_string(),
+            Some(key) => match &self.origin {
                 None => format!("{field} (--{})", key.replace('_', "-")),
-                Some(o) => {
-                    let name = match key {
-                        "dt" => o.levels[0],
-                        "elements" => o.levels[1],
-                        key => key,
-                    };
-                    format!("{field} ({}.{name})", o.table)
-                }
-            }
+                Some(o) => format!("{field} ({}.{})", o.table, o.field_of(key)),
+            },
         })
+    }
+
+    /// The key of `field` (as errors name it: `run.dt`, `mesh.cells`, `run.beta`) when these
+    /// overrides set its value: `dt`, `cells`, `beta`.
+    fn key_of<'a>(&self, field: &'a str) -> Option<&'a str> {
+        let o = &self.options;
+        let set = match field {
+            "run.dt" => self.dt.is_some(),
+            "run.t_end" => self.t_end.is_some(),
+            "mesh.elements" => self.elements.is_some(),
+            "mesh.degree" => self.degree.is_some(),
+            "mesh.cells" => self.cells.is_some(),
+            "contact.friction" => self.friction.is_some(),
+            "run.contact" => o.contact.is_some(),
+            "run.contact_multiplier" => o.contact_multiplier.is_some(),
+            "run.contact_solver" => o.contact_solver.is_some(),
+            "run.linear_solver" => o.linear_solver.is_some(),
+            f => f.strip_prefix("run.").is_some_and(|p| o.params.is_set(p)),
+        };
+        set.then(|| field.split_once('.').map_or(field, |(_, key)| key))
     }
 
     /// `self` with parameter `name` set (tests and benches: `Overrides::default().with("beta", 0.5)`).

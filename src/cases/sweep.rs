@@ -41,6 +41,7 @@ impl HistorySpec {
         let origin = Origin {
             table: self.field(""),
             levels: ["dts", "elements"],
+            choice: "scheme",
         };
         combination(space, &self.scheme, &self.degree, level, None, origin)
     }
@@ -330,6 +331,7 @@ impl SweepSpec {
         let origin = Origin {
             table: format!("sweep.{}", self.name),
             levels: self.level_fields(),
+            choice: "schemes",
         };
         Overrides {
             friction: self.friction,

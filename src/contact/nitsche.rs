@@ -289,7 +289,7 @@ fn check_scale(gamma0: f64, term: f64, stiff: f64) -> Result<()> {
     let ratio = term / stiff;
     if stiff > 0.0 && (ratio.is_nan() || ratio > 1.0 / f64::EPSILON) {
         return Err(Error::invalid(
-            "run.nitsche_gamma (--nitsche-gamma)",
+            "run.nitsche_gamma",
             gamma0,
             &format!(
                 "makes the term θ ∫ γ σ_n(u) σ_n(v), γ = h/(γ₀ E), {ratio:e} times the stiffness \
