@@ -194,8 +194,8 @@ pub struct Options {
     #[serde(default, deserialize_with = "names::contact_solver")]
     pub contact_solver: Option<String>,
     /// Linear solver of the step matrix: auto (CG from 5·10⁴ dofs on 2D and 3D meshes with a
-    /// sparse mass and nodal contact or Nitsche's at θ = 1, direct otherwise), direct (sparse
-    /// Cholesky / LU) or cg.
+    /// sparse mass and nodal contact or Nitsche's at θ = 1, unless the stiffness dominates a 2D
+    /// step matrix; direct otherwise), direct (sparse Cholesky / LU) or cg.
     #[arg(long = "linear-solver")]
     #[serde(default, deserialize_with = "names::linear_solver")]
     pub linear_solver: Option<String>,

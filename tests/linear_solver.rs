@@ -259,3 +259,50 @@ fn another_lcp_solver_is_not_replaced_by_the_cg_active_set() {
     println!("clarabel (direct) against cg's active set: {gap:.1e}");
     assert!(gap < 1e-6, "{gap:e}");
 }
+
+/// Auto keeps the direct factor for a 2D step matrix that the stiffness dominates (hertz2d
+/// n = 96 at its Δt: median weight `k K_ii / (m M_ii)` 25; the whole run 7.7 s direct against
+/// 31.6 s cg) and takes CG above 5·10⁴ dofs otherwise (Δt / 10: weight 0.25): auto's trajectory
+/// is the one of the solver it chose, to the bit, and differs from the other's.
+#[test]
+fn auto_keeps_the_direct_factor_where_the_stiffness_dominates_a_2d_step() {
+    use dyncontact::time::step::stiffness_weight;
+    let steps = |dt: f64, linear: &str| {
+        let o = Overrides {
+            elements: Some(96),
+            dt: Some(dt),
+            t_end: Some(2.0 * dt),
+            options: Options {
+                linear_solver: Some(linear.into()),
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        run(cases::load(Path::new("cases/hertz2d.toml"), &o)
+            .unwrap()
+            .as_ref())
+        .unwrap()
+    };
+    let same = |a: &RunResult, b: &RunResult| relative_gap(a, b, |r| r.force_contact) == 0.0;
+    for (dt, chosen, other) in [(0.02, "direct", "cg"), (0.002, "cg", "direct")] {
+        let auto = steps(dt, "auto");
+        assert!(
+            same(&auto, &steps(dt, chosen)),
+            "dt = {dt}: auto is not {chosen}"
+        );
+        assert!(
+            !same(&auto, &steps(dt, other)),
+            "dt = {dt}: {chosen} and {other} agree"
+        );
+    }
+    // The weight's definition: the median over the dofs with mass (the massless one left out).
+    let diag = |d: &[f64]| {
+        let mut t = dyncontact::linalg::sparse::TripletBuilder::new(d.len(), d.len());
+        for (i, &v) in d.iter().enumerate() {
+            t.add(i, i, v);
+        }
+        t.build().unwrap()
+    };
+    let (m, k) = (diag(&[1.0, 2.0, 0.0, 4.0]), diag(&[4.0, 4.0, 4.0, 4.0]));
+    assert_eq!(stiffness_weight(&m, &k, (1.0, 0.5)), Some(1.0));
+}

@@ -46,29 +46,67 @@ impl LinearSolver {
 
 /// Dofs from which [`LinearSolver::Auto`] considers CG.
 pub const AUTO_CG_DOFS: usize = 50_000;
+
+/// The stiffness's weight in a 2D step matrix above which [`LinearSolver::Auto`] keeps the
+/// direct factor: the median over the dofs with mass of `k K_ii / (m M_ii)` ([`stiffness_weight`]).
+/// CG's iterations grow with it (as the Courant number cΔt/h squared) while a 2D factor stays
+/// cheap. Measured on this machine (wall, whole runs, direct against cg): hertz2d n = 96 and 128
+/// (weights 25 and 44) 7.7 against 31.6 s and 17.2 against 40.4 s; block2d Q1 224², weight 0.13
+/// (Δt = 1e-3), 0.81 (2.5e-3) and 8.3 (8e-3): 37.5 against 14.1 s, 53.6 against 27.0 s, 21.6
+/// against 22.8 s. A 3D factor fills in too much for the direct step to win at any weight
+/// measured (hertz3d, weight 8.8: 88 against 15 s).
+pub const AUTO_DIRECT_WEIGHT_2D: f64 = 8.0;
+
 /// The rule of [`LinearSolver::Auto`]: CG when the mass is a sparse matrix, every contact row
 /// has a dof of its own (nodal contact along axes, node-to-segment pairs of two bodies:
 /// [`super::iterative::own_dofs`]), the problem has n ≥ [`AUTO_CG_DOFS`] dofs and K is not a
-/// narrow band (2D and 3D
-/// meshes, where the Cholesky factor fills in and each direct step also pays the Delassus
-/// correction over every active contact column); the direct factor otherwise, 1D included.
-/// Measured (README, Speed): block2d Q1 224² 19 against 42 ms per step, block3d Q1 32³ 41 ms
-/// against 0.56 s (and 65 s of prepare).
-pub fn cg_pays(problem: &Problem, k: &SpMat) -> bool {
+/// narrow band (2D and 3D meshes, where the Cholesky factor fills in and each direct step also
+/// pays the Delassus correction over every active contact column), and, in 2D, the step matrix
+/// `m M + k K` (`coefs`) is not stiffness-dominated ([`AUTO_DIRECT_WEIGHT_2D`]); the direct
+/// factor otherwise, 1D included. Measured (README, Speed): block2d Q1 224² 19 against 42 ms
+/// per step, block3d Q1 32³ 41 ms against 0.56 s (and 65 s of prepare).
+pub fn cg_pays(problem: &Problem, k: &SpMat, coefs: (f64, f64)) -> bool {
     problem.inertia.sparse().is_some()
         && problem.n() >= AUTO_CG_DOFS
         && !linalg::is_narrow_band(k)
         && own_dofs(problem).is_ok()
+        && !stiff_2d(problem, k, coefs)
 }
 
 /// The rule of [`LinearSolver::Auto`] for a compliant law (Nitsche's): as [`cg_pays`], with a
 /// symmetric law (θ = 1) in place of nodal contact (measured in [`super::compliant`]: 2.7 times
 /// less CPU than the direct step on the default hertz3d sphere).
-fn compliant_cg_pays(problem: &Problem, k: &SpMat) -> bool {
+fn compliant_cg_pays(problem: &Problem, k: &SpMat, coefs: (f64, f64)) -> bool {
     problem.inertia.sparse().is_some()
         && problem.n() >= AUTO_CG_DOFS
         && !linalg::is_narrow_band(k)
         && symmetric_law(problem).is_ok()
+        && !stiff_2d(problem, k, coefs)
+}
+
+/// True for a 2D mesh (nodes of 2 dofs) whose step matrix weighs the stiffness above
+/// [`AUTO_DIRECT_WEIGHT_2D`].
+fn stiff_2d(problem: &Problem, k: &SpMat, coefs: (f64, f64)) -> bool {
+    linalg::node_size(k) == 2
+        && problem
+            .inertia
+            .sparse()
+            .and_then(|m| stiffness_weight(m, k, coefs))
+            .is_some_and(|w| w > AUTO_DIRECT_WEIGHT_2D)
+}
+
+/// The median over the dofs with mass of `k K_ii / (m M_ii)`, `coefs = (m, k)`: how much the
+/// stiffness weighs in the step matrix `m M + k K` (None without a dof with mass).
+pub fn stiffness_weight(m: &SpMat, k: &SpMat, (m_coef, k_coef): (f64, f64)) -> Option<f64> {
+    let (dm, dk) = (linalg::diagonal(m), linalg::diagonal(k));
+    let mut w: Vec<f64> = dm
+        .iter()
+        .zip(&dk)
+        .filter(|(m, _)| **m > 0.0)
+        .map(|(m, k)| (k_coef * k / (m_coef * m)).abs())
+        .collect();
+    let mid = w.len() / 2;
+    (!w.is_empty()).then(|| *w.select_nth_unstable_by(mid, f64::total_cmp).1)
 }
 
 /// Refuses a step matrix `m M + k K` in which the stiffness is below the round-off of the mass
@@ -146,8 +184,8 @@ impl ContactStep {
                 )))
             }
             LinearSolver::Cg => true,
-            LinearSolver::Auto if compliance.is_some() => compliant_cg_pays(problem, k),
-            LinearSolver::Auto => signorini && own && cg_pays(problem, k),
+            LinearSolver::Auto if compliance.is_some() => compliant_cg_pays(problem, k, coefs),
+            LinearSolver::Auto => signorini && own && cg_pays(problem, k, coefs),
         };
         Ok(if let (true, Some(eps)) = (cg, compliance) {
             Self::Compliant(CompliantStep::new(problem, k, coefs, c, eps)?)

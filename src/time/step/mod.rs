@@ -31,7 +31,10 @@ pub mod iterative;
 pub mod stepper;
 pub mod trapezoidal;
 
-pub use contact_step::{cg_pays, ContactStep, LinearSolver, AUTO_CG_DOFS, LINEAR_SOLVERS};
+pub use contact_step::{
+    cg_pays, stiffness_weight, ContactStep, LinearSolver, AUTO_CG_DOFS, AUTO_DIRECT_WEIGHT_2D,
+    LINEAR_SOLVERS,
+};
 pub use friction::FrictionStep;
 pub use stepper::{initial_acceleration, time_step, Stepper, ThreeLevel};
 pub use trapezoidal::Trapezoidal;
