@@ -71,6 +71,15 @@ pub enum Error {
         #[source]
         reason: SolverError,
     },
+    /// A two-body state past the small-sliding limit of the interface's pairing
+    /// ([`crate::fem::sliding`]).
+    #[error("small sliding exceeded at step {step} (t = {time:.6e}): {reason}")]
+    SmallSliding {
+        step: usize,
+        time: f64,
+        reason: String,
+    },
+
     /// The discrete solution blew up (NaN or infinite values).
     #[error("solution diverged at step {step} (t = {time:.6e}): {reason}")]
     Diverged {
@@ -168,6 +177,7 @@ impl Error {
             | Error::Unsupported(_)
             | Error::ContactSolver { .. }
             | Error::Diverged { .. }
+            | Error::SmallSliding { .. }
             | Error::Factorisation { .. }
             | Error::StepMatrix { .. } => self.in_case_file(path),
             _ => self,

@@ -458,3 +458,43 @@ fn weak_contact_between_two_meshed_bodies_is_refused() {
     let r = run(case("cases/two_bars.toml", o).as_ref()).unwrap();
     assert!(r.rows.iter().all(|x| x.sigma_contact.is_finite()));
 }
+
+/// The interface pairs each slave vertex with a master face once, in the reference
+/// configuration (small sliding). A top block launched at 10 (100 times slide_on_block2d's
+/// speed, frictionless) slid 5 along the lower block, past its edge (half-width 1), and was
+/// still held up there by its contact force, exit 0. Now the run stops when a vertex in contact
+/// is off its face and the faces beside it (after 0.22 of slip on faces of 0.25), naming the
+/// vertex and the step; the default cases, whose vertices slide a fraction of a face (two_spheres:
+/// 7.8e-3 on the graded faces at the pole), run as before.
+#[test]
+fn a_vertex_sliding_off_its_master_face_stops_the_run() {
+    let text = std::fs::read_to_string("cases/slide_on_block2d.toml").unwrap();
+    let fast = text.replacen(
+        "tangential_velocity = 0.1 ",
+        "tangential_velocity = 10.0 ",
+        1,
+    );
+    assert_ne!(fast, text);
+    let o = Overrides {
+        friction: Some(0.0),
+        t_end: Some(0.5),
+        ..Default::default()
+    };
+    let case = parse(&fast, Path::new("cases/x.toml"), &o).unwrap();
+    let e = run(case.as_ref()).map(|_| ()).unwrap_err();
+    let message = e.to_string();
+    assert!(
+        matches!(e, dyncontact::Error::SmallSliding { step, .. } if step > 1 && step < 20),
+        "{message}"
+    );
+    for needle in [
+        "body 1's Γ_C node",
+        "body 2's contact face",
+        "small sliding",
+    ] {
+        assert!(message.contains(needle), "{needle}: {message}");
+    }
+    // The case's own speed slides a fraction of a face: the run is unchanged.
+    let slow = parse(&text, Path::new("cases/x.toml"), &o).unwrap();
+    assert!(run(slow.as_ref()).is_ok());
+}

@@ -52,7 +52,7 @@ const PROJECTION_TOLERANCE: f64 = 1e-9;
 /// face and still be paired, clamped onto the nearest: above a convex master's kink the
 /// projections along the two faces' normals miss both by about `g₀ / R` (R the radius of
 /// curvature); a slave vertex further beyond the master's Γ_C gets no row.
-const MAX_EXCESS: f64 = 0.25;
+pub(super) const MAX_EXCESS: f64 = 0.25;
 /// Newton iterations of a projection on a warped quadrilateral (converged to 1e-14 in a few).
 const NEWTON_ITERATIONS: usize = 30;
 
@@ -80,6 +80,8 @@ pub struct Pairing {
     /// The master face's vertices (node indices of the master) and their shape functions N_k
     /// at the projection.
     pub master: Vec<(usize, f64)>,
+    /// The unit normal `n_m` of the row (the mean of the faces' meeting at the projection).
+    pub normal: [f64; 3],
 }
 
 /// One body's part of a run's state, for field output ([`Bodies::split`]).
@@ -300,6 +302,7 @@ impl Bodies {
                 tangential,
                 g0,
                 master: master.collect(),
+                normal,
             });
         }
         if out.is_empty() {
@@ -670,7 +673,7 @@ impl Reach {
 /// `[(1 − s)(1 − t), s(1 − t), s t, (1 − s) t]`); None when Newton fails. On a straight face this is the orthogonal projection;
 /// on a warped quadrilateral, the point whose offset to `p` is parallel to the face's averaged
 /// normal (Newton on the two tangential equations), so that the row's torque vanishes.
-fn project(x: &[[f64; 3]], n: [f64; 3], p: [f64; 3]) -> Result<Option<(f64, Vec<f64>)>> {
+pub(super) fn project(x: &[[f64; 3]], n: [f64; 3], p: [f64; 3]) -> Result<Option<(f64, Vec<f64>)>> {
     let shape = |s: f64, t: f64| -> Vec<f64> {
         match x.len() {
             2 => vec![1.0 - s, s],

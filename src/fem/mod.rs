@@ -9,3 +9,4 @@ pub mod dofs;
 pub mod elasticity;
 pub mod mass_model;
 pub mod point_mass;
+pub mod sliding;

@@ -173,6 +173,10 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
         (Some(_), Some(b)) => b.vertex_shares()?,
         _ => Vec::new(),
     };
+    // Two bodies: their interface's small-sliding limit, checked at every sample.
+    let sliding = bodies
+        .map(|b| crate::fem::sliding::SmallSliding::new(b, 0, 1))
+        .transpose()?;
     let mut parts = match bodies {
         Some(b) => b.parts.iter().collect(),
         None => case.discretisation().into_iter().collect::<Vec<_>>(),
@@ -250,6 +254,12 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
                     let row = probe_row(problem, &mut probe, &s, exact);
                     if let Some((what, value)) = row.non_finite() {
                         return Err(diverged(index, s.t, what, value));
+                    }
+                    if let Some(c) = &sliding {
+                        if let Some(reason) = c.check(s.u, s.lambda)? {
+                            let (step, time) = (index, s.t);
+                            return Err(Error::SmallSliding { step, time, reason });
+                        }
                     }
                     if let Some(out) = vtu.as_mut() {
                         match bodies {
