@@ -447,7 +447,7 @@ fn main_result(cli: Cli) -> Result<()> {
                 say!("note: no contact force in this run: the Hertz errors are empty");
             }
             // Finite but blown up: written (the curves show it), and refused as a study does.
-            match jobs::blowup(&result.rows) {
+            match jobs::blowup(&result) {
                 Some((step, time, reason)) => Err(Error::Diverged {
                     step,
                     time,

@@ -949,3 +949,34 @@ fn the_reported_runs_at_large_mu_finish() {
         );
     }
 }
+
+/// At a slope of π/2 gravity runs along the plane: the disc, released touching it, falls beside
+/// it as a free body (`com_velocity_t` = g t, no normal force to give friction). Its E(0) is
+/// m g R cos α = 1.9e-16, so backward Euler's ordinary loss (2.5e-3) was "|E − E(0)| = 3.3e10
+/// |E(0)|" and the run was reported diverged at step 1. Blow-up is now measured against
+/// max(|E(0)|, W), W the loads' work across the body (`RunResult::load_scale`); a real blow-up
+/// still is one (tests/hostile.rs).
+#[test]
+fn the_disc_beside_a_vertical_plane_falls_freely_and_has_not_diverged() {
+    let text = std::fs::read_to_string("cases/roll2d.toml").unwrap();
+    let vertical = text.replacen(
+        "slope = 0.3",
+        &format!("slope = {}", std::f64::consts::FRAC_PI_2),
+        1,
+    );
+    assert_ne!(vertical, text);
+    let case = cases::parse(&vertical, Path::new("cases/x.toml"), &Overrides::default()).unwrap();
+    let r = run(case.as_ref()).unwrap();
+    assert!(
+        r.rows[0].energy.abs() < 1e-12,
+        "E(0) = {:e}",
+        r.rows[0].energy
+    );
+    assert!(r.load_scale > 1.0, "W = {}", r.load_scale);
+    let blowup = dyncontact::study::jobs::blowup(&r);
+    assert!(blowup.is_none(), "{blowup:?}");
+    for row in &r.rows {
+        let v = row.friction.unwrap().0;
+        assert!((v - row.t).abs() < 1e-6, "t = {}: v = {v}", row.t);
+    }
+}

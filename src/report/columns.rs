@@ -13,7 +13,7 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("case_hash", "—", "FNV-1a hash of the case file's text when the run was made (`--resume` reuses a run only when key and hash match)"),
     ("sweep", "—", "the `[[sweep]]` table's name"),
     ("level", "—", "refinement level, 0 = coarsest"),
-    ("status", "—", "`ok`, `diverged` (state not finite, or an energy that moved from E(0) by more than 100 |E(0)|, either way), `failed` (an error: unstable time step, solver failure), `unsupported` (the combination is not defined), `internal` (a fault of dyncontact itself, which says nothing about the method: please report it)"),
+    ("status", "—", "`ok`, `diverged` (state not finite, or an energy that moved from E(0), either way, by more than 100 max(|E(0)|, W), W the loads' work across the bodies' extent), `failed` (an error: unstable time step, solver failure), `unsupported` (the combination is not defined), `internal` (a fault of dyncontact itself, which says nothing about the method: please report it)"),
     ("reason", "—", "why the run is not `ok` (empty otherwise)"),
     ("case", "—", "the case kind (`case` of the case file)"),
     ("space", "—", "space discretisation of the inertia (`dyncontact list`)"),

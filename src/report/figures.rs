@@ -450,7 +450,7 @@ const VS_TIME: [VsTime; 2] = [
 ];
 
 /// One curve of `get` against time per labelled run, styled by `style(k)`; a run whose energy
-/// moved from E(0) by more than 100 |E(0)| ([`blowup`]) is marked diverged (drawn clipped,
+/// moved from E(0) by more than 100 max(|E(0)|, W) ([`blowup`]) is marked diverged (drawn clipped,
 /// said in its label).
 fn time_curves(
     runs: &[(String, RunResult)],
@@ -462,7 +462,7 @@ fn time_curves(
         .map(|(k, (label, r))| {
             let pts = r.rows.iter().map(|x| (x.t, get(x))).collect();
             let mut s = Series::new(label.clone(), pts, style(k));
-            if blowup(&r.rows).is_some() {
+            if blowup(r).is_some() {
                 s.diverged = true;
                 s.label.push_str(" (diverged: drawn clipped)");
             }

@@ -9,24 +9,37 @@
 use super::metrics::{self, Metrics};
 use super::run::{self, RunResult, Summary};
 use super::schedule::{self, Estimate};
-use super::trajectory::Row;
 use crate::cases::{self, sweep::Refinement, sweep::SchemeChoice, Case, CaseFile, Size};
 use crate::error::{Error, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::sync::Arc;
 
-/// A run whose energy exceeds this multiple of E(0) is recorded as diverged.
+/// A run whose energy moves from E(0) by more than this multiple of its scale is recorded as
+/// diverged.
 pub const BLOWUP_FACTOR: f64 = 100.0;
 
-/// Why a finished run counts as diverged: its energy left [`BLOWUP_FACTOR`] × E(0) (by more
-/// than [`BLOWUP_FACTOR`] when E(0) = 0; [`metrics::first_blowup`]), as `(step, time, reason)`
-/// at the first step it did.
-pub fn blowup(rows: &[Row]) -> Option<(usize, f64, String)> {
-    let e0 = rows.first()?.energy;
-    metrics::first_blowup(rows, BLOWUP_FACTOR).map(|(step, t, drift)| {
-        let reason = if e0 == 0.0 {
+/// Why a finished run counts as diverged: its energy moved from E(0) by more than
+/// [`BLOWUP_FACTOR`] × its scale, `max(|E(0)|, W)` with W the loads' work across the bodies
+/// ([`RunResult::load_scale`]; by more than [`BLOWUP_FACTOR`] when both are 0;
+/// [`metrics::first_blowup`]), as `(step, time, reason)` at the first step it did. W keeps a
+/// run whose E(0) vanishes by the potential's origin from being called diverged by round-off:
+/// roll2d at a slope of π/2 (gravity along the plane, E(0) = m g R cos α = 1.9e-16) sliding
+/// as it should was "|E − E(0)| = 3.3e10 |E(0)|" at step 1.
+pub fn blowup(result: &RunResult) -> Option<(usize, f64, String)> {
+    let rows = &result.rows;
+    let e0 = rows.first()?.energy.abs();
+    let w = result.load_scale;
+    let scale = e0.max(w);
+    metrics::first_blowup(rows, BLOWUP_FACTOR, w).map(|(step, t, drift)| {
+        let reason = if scale == 0.0 {
             format!(
                 "the energy moved from E(0) = 0 by more than {BLOWUP_FACTOR} (|E| = {drift:.3e})"
+            )
+        } else if w > e0 {
+            format!(
+                "the energy moved from E(0) by more than {BLOWUP_FACTOR} W, W = {w:.3e} the \
+                 loads' work across the bodies (above |E(0)| = {e0:.3e}; |E − E(0)| = \
+                 {drift:.3e} W)"
             )
         } else {
             format!(
@@ -411,7 +424,7 @@ pub fn run_job_keeping(job: &Job) -> (RunRecord, Option<RunResult>) {
             Err(e) => failed(e, Some(case.as_ref())),
             Ok(r) => {
                 let summary = r.summary.clone();
-                let outcome = if let Some((step, t, reason)) = blowup(&r.rows) {
+                let outcome = if let Some((step, t, reason)) = blowup(&r) {
                     let reason = format!("{reason} at step {step} (t = {t:.6e})");
                     (Status::Diverged, reason, summary)
                 } else {

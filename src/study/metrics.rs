@@ -235,18 +235,19 @@ fn relative(x: f64, scale: f64) -> f64 {
     }
 }
 
-/// The first sample whose energy departs from E(0) by more than `factor` × |E(0)| (by more than
-/// `factor` when E(0) = 0, as `energy_drift`): `(sample, t, |E − E(0)| / |E(0)|)`. Every step is a
-/// sample, so the sample is the step. A loss counts too: the energy holds −Fᵀu and Nitsche's
-/// −½γσ², so an unstable mode can drive it to −∞ (hertz2d, Nitsche γ₀ = 3.5, backward Euler:
-/// −2.2e146). A scheme's dissipation can exceed 100 |E(0)| only from an E(0) near 0 against
-/// the work of the loads (roll2d at a slope of nearly π/2: E(0) = 7.7e-8), which the samples
-/// do not hold: such a run is reported diverged.
-pub fn first_blowup(rows: &[Row], factor: f64) -> Option<(usize, f64, f64)> {
+/// The first sample whose energy departs from E(0) by more than `factor` × `max(|E(0)|, w)` (by
+/// more than `factor` when both are 0, as `energy_drift`): `(sample, t, |E − E(0)| / scale)`.
+/// Every step is a sample, so the sample is the step. A loss counts too: the energy holds −Fᵀu
+/// and Nitsche's −½γσ², so an unstable mode can drive it to −∞ (hertz2d, Nitsche γ₀ = 3.5,
+/// backward Euler: −2.2e146). `w`, the loads' work across the bodies, is the scale of a run
+/// whose E(0) is near 0 against that work (roll2d at a slope of nearly π/2: E(0) = 7.7e-8):
+/// relative to |E(0)| alone, a scheme's dissipation would exceed it.
+pub fn first_blowup(rows: &[Row], factor: f64, w: f64) -> Option<(usize, f64, f64)> {
     let e0 = rows.first()?.energy;
+    let scale = e0.abs().max(w);
     rows.iter()
         .enumerate()
-        .map(|(i, r)| (i, r.t, relative((r.energy - e0).abs(), e0)))
+        .map(|(i, r)| (i, r.t, relative((r.energy - e0).abs(), scale)))
         .find(|(_, _, drift)| *drift > factor)
 }
 
@@ -610,17 +611,17 @@ mod tests {
     fn a_blow_up_is_dated_at_its_first_step() {
         let grown = rows(&[2.0, 3.0, 150.0, 1e9, 4.0]);
         assert_eq!(
-            first_blowup(&grown, 100.0),
+            first_blowup(&grown, 100.0, 0.0),
             Some((3, 3.0, (1e9 - 2.0) / 2.0))
         );
-        assert_eq!(first_blowup(&grown[..3], 100.0), None);
+        assert_eq!(first_blowup(&grown[..3], 100.0, 0.0), None);
         let m = compute(&grown, &[], 1.0, true, None);
-        assert!(m.energy_drift > 100.0 && first_blowup(&grown, m.energy_drift).is_none());
+        assert!(m.energy_drift > 100.0 && first_blowup(&grown, m.energy_drift, 0.0).is_none());
         assert_eq!(
-            first_blowup(&rows(&[0.0, 50.0, -150.0]), 100.0),
+            first_blowup(&rows(&[0.0, 50.0, -150.0]), 100.0, 0.0),
             Some((2, 2.0, 150.0))
         );
-        assert_eq!(first_blowup(&[], 100.0), None);
+        assert_eq!(first_blowup(&[], 100.0, 0.0), None);
     }
 
     #[test]

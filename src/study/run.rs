@@ -98,6 +98,10 @@ pub struct RunResult {
     pub peak: Option<Peak>,
     /// Summary.
     pub summary: Summary,
+    /// The work of the loads across the bodies' extent, `‖F‖₁ D` (D the diagonal of the box
+    /// around the meshes; 0 without loads or mesh): the energy scale of a run whose E(0)
+    /// vanishes by the choice of the potential's origin ([`super::jobs::blowup`]).
+    pub load_scale: f64,
 }
 
 /// Runs the case with its `[run]` settings (no progress bar).
@@ -181,6 +185,7 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
         Some(b) => b.parts.iter().collect(),
         None => case.discretisation().into_iter().collect::<Vec<_>>(),
     };
+    let extent = diagonal(&parts);
     parts.retain(|p| p.dim() >= 2);
     let mut vtu = match fields {
         None => None,
@@ -366,6 +371,7 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
     metrics.drop_non_finite();
     peak.lambda = vertex_lambda;
     Ok(RunResult {
+        load_scale: problem.f.iter().map(|f| f.abs()).sum::<f64>() * extent,
         rows,
         peak: impact.is_some().then_some(peak),
         summary: Summary {
@@ -402,6 +408,22 @@ fn diverged(step: usize, time: f64, what: &str, value: f64) -> Error {
         time,
         reason: format!("{what} is {value}{before}"),
     }
+}
+
+/// The diagonal of the box around the nodes of `parts` (0 without a node).
+fn diagonal(parts: &[&crate::fem::discretisation::Discretisation]) -> f64 {
+    let mut nodes = parts.iter().flat_map(|p| &p.mesh.nodes).peekable();
+    if nodes.peek().is_none() {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for x in nodes {
+        for k in 0..3 {
+            lo[k] = lo[k].min(x[k]);
+            hi[k] = hi[k].max(x[k]);
+        }
+    }
+    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
 }
 
 /// Snapshots in flight between the time loop and the sampling thread.
