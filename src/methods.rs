@@ -63,7 +63,9 @@ impl Options {
 
     /// Linear solver name (default `auto`).
     pub fn linear_solver(&self) -> &str {
-        self.linear_solver.as_deref().unwrap_or("auto")
+        self.linear_solver
+            .as_deref()
+            .unwrap_or(crate::time::DEFAULT_LINEAR_SOLVER)
     }
 
     /// `key=value, …` of what is set (sweep labels): the parameters, `scheme`'s own first, then

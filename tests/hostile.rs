@@ -2517,3 +2517,103 @@ fn an_energy_falling_without_bound_is_a_divergence() {
         ],
     );
 }
+
+/// A case file's text up to its first `[[sweep]]` with `sweep` after it, written into `dir`.
+fn with_sweep(dir: &Path, file: &str, sweep: &str) -> String {
+    let text = std::fs::read_to_string(format!("cases/{file}")).unwrap();
+    let head = &text[..text.find("[[sweep]]").unwrap()];
+    let path = dir.join(file);
+    std::fs::write(&path, format!("{head}{sweep}")).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+/// Found by a fourth round of hostile inputs: the solvers of a sweep's scheme entry entered
+/// neither the run's key nor its records, so two entries differing by their solver were refused
+/// as "one run listed twice" and one entry's run was recorded without its solver (`parameters`
+/// empty). Every solver other than its default is a parameter now, in the key, the records and
+/// `run`'s summary; the contact multiplier already was (`contact=weak_p0`).
+#[test]
+fn a_sweep_compares_solvers_each_run_keyed_and_recorded_with_its_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let table = |schemes: &str| {
+        format!(
+            "[[sweep]]\nname = \"solvers\"\nspaces = [\"standard\"]\nschemes = [{schemes}]\n\
+             elements = 8\ndt = 0.01\nlevels = 1\nt_end = 0.5\n"
+        )
+    };
+    let records = |case: &str| {
+        let out = dyncontact(&["sweep", case, "--out", o]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        std::fs::read_to_string(dir.path().join("o/records.csv")).unwrap()
+    };
+    let be = "{ scheme = \"backward_euler\"";
+    let slide = with_sweep(
+        dir.path(),
+        "slide2d.toml",
+        &table(&format!(
+            "{be}, contact_solver = \"projected_gauss_seidel\" }}, \
+             {be}, contact_solver = \"alart_curnier\" }}, {be} }}"
+        )),
+    );
+    let text = records(&slide);
+    for row in [
+        "slide2d-solvers-standard-backward_euler-contact_solver=projected_gauss_seidel-L0,\
+         solvers,0,ok,,slide2d,standard,backward_euler,contact_solver=projected_gauss_seidel,",
+        "slide2d-solvers-standard-backward_euler-contact_solver=alart_curnier-L0,solvers,0,ok,,\
+         slide2d,standard,backward_euler,contact_solver=alart_curnier,",
+        // No solver set: the key and records as before (alart_curnier, friction's default).
+        "slide2d-solvers-standard-backward_euler-L0,solvers,0,ok,,slide2d,standard,\
+         backward_euler,,nodal,",
+    ] {
+        assert!(text.contains(row), "{row} not in\n{text}");
+    }
+    let block = with_sweep(
+        dir.path(),
+        "block2d.toml",
+        &table(
+            "{ scheme = \"newmark\", linear_solver = \"cg\" }, \
+             { scheme = \"newmark\", linear_solver = \"direct\" }, \
+             { scheme = \"newmark\", contact = \"weak\", contact_multiplier = \"p0\" }, \
+             { scheme = \"newmark\", contact = \"weak\", contact_multiplier = \"p1\" }",
+        ),
+    );
+    let text = records(&block);
+    for key in [
+        "block2d-solvers-standard-newmark-beta=0.5;gamma=0.5;linear_solver=cg-L0,",
+        "block2d-solvers-standard-newmark-beta=0.5;gamma=0.5;linear_solver=direct-L0,",
+        "block2d-solvers-standard-newmark-beta=0.5;gamma=0.5;contact=weak_p0-L0,",
+        "block2d-solvers-standard-newmark-beta=0.5;gamma=0.5;contact=weak_p1-L0,",
+    ] {
+        assert!(text.contains(key), "{key} not in\n{text}");
+    }
+    // The same solver twice is still one run listed twice.
+    let twice = with_sweep(
+        dir.path(),
+        "slide2d.toml",
+        &table(&format!(
+            "{be}, contact_solver = \"de_saxce\" }}, {be}, contact_solver = \"de_saxce\" }}"
+        )),
+    );
+    let out = dyncontact(&["sweep", &twice, "--out", o]);
+    assert_clear_error(
+        &out,
+        &["contact_solver=de_saxce-L0", "one run listed twice"],
+    );
+    // `run`'s summary names the solver too.
+    let out = run(
+        &[
+            "cases/slide2d.toml",
+            "--contact-solver",
+            "projected_gauss_seidel",
+        ],
+        &["--t-end", "0.1", "--out", o],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let summary = std::fs::read_to_string(dir.path().join("o/summary.csv")).unwrap();
+    assert!(
+        summary.contains(",backward_euler,contact_solver=projected_gauss_seidel,nodal,"),
+        "{summary}"
+    );
+}

@@ -365,22 +365,38 @@ impl RunSpec {
     }
 
     /// The `parameters` column of the records: the scheme's `name=value;…`, then, for a contact
-    /// formulation other than the default, `contact=<name>` and its parameters.
+    /// formulation other than the default, `contact=<name>` and its parameters, then the solvers
+    /// set to other than their defaults ([`RunSpec::solver_parameters`]).
     pub fn parameters(&self) -> Result<String> {
-        let mut out = crate::time::entry(&self.scheme)?.describe(self.params());
+        let mut parts = vec![crate::time::entry(&self.scheme)?.describe(self.params())];
         let contact = self.options.contact();
         if contact != crate::contact::DEFAULT_FORMULATION {
             let entry = crate::contact::formulation_entry(contact)?;
-            let own = entry.describe(self.params());
             let label = crate::contact::formulation(&self.options)?.label();
-            for part in [format!("contact={label}"), own] {
-                if !part.is_empty() {
-                    if !out.is_empty() {
-                        out.push(';');
-                    }
-                    out.push_str(&part);
-                }
-            }
+            parts.push(format!("contact={label}"));
+            parts.push(entry.describe(self.params()));
+        }
+        parts.extend(self.solver_parameters()?);
+        parts.retain(|p| !p.is_empty());
+        Ok(parts.join(";"))
+    }
+
+    /// `contact_solver=<name>` for a contact solver other than `active_set` and
+    /// `linear_solver=<name>` for a linear solver other than `auto` with a scheme that solves
+    /// a linear system (the others ignore it), so that two runs differing by a solver differ in
+    /// their key and records. A friction run without a solver set takes `alart_curnier`, written
+    /// as nothing.
+    fn solver_parameters(&self) -> Result<Vec<String>> {
+        let mut out = Vec::new();
+        let contact = self.options.contact_solver();
+        if contact != crate::contact::DEFAULT_SOLVER {
+            out.push(format!("contact_solver={contact}"));
+        }
+        let linear = self.options.linear_solver();
+        if linear != crate::time::DEFAULT_LINEAR_SOLVER
+            && crate::time::by_name(&self.scheme, self.params())?.solves_linear_system()
+        {
+            out.push(format!("linear_solver={linear}"));
         }
         Ok(out)
     }
@@ -950,4 +966,46 @@ pub fn spec_from_str<T: DeserializeOwned>(text: &str, path: &Path) -> Result<T> 
 /// Parses case-file text and validates it with `overrides` (`path` is only used in messages).
 pub fn parse(text: &str, path: &Path, overrides: &Overrides) -> Result<Box<dyn Case>> {
     CaseFile::parse(text.to_string(), path)?.build(overrides)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::RunSpec;
+
+    /// A solver set to other than its default enters the `parameters` column (and so the run's
+    /// key); the defaults, set or not, leave it as it was, and a linear solver is left out for
+    /// a scheme that solves no linear system.
+    #[test]
+    fn solvers_other_than_the_defaults_are_parameters() {
+        let with = |scheme: &str, contact: Option<&str>, linear: Option<&str>| {
+            let mut spec = RunSpec::new("standard", scheme, 0.1, 1.0);
+            spec.options.contact_solver = contact.map(Into::into);
+            spec.options.linear_solver = linear.map(Into::into);
+            spec.parameters().unwrap()
+        };
+        let newmark = "beta=0.5;gamma=0.5";
+        assert_eq!(with("newmark", None, None), newmark);
+        assert_eq!(with("newmark", Some("active_set"), Some("auto")), newmark);
+        assert_eq!(
+            with("newmark", Some("projected_gauss_seidel"), Some("cg")),
+            format!("{newmark};contact_solver=projected_gauss_seidel;linear_solver=cg")
+        );
+        assert_eq!(
+            with("backward_euler", Some("alart_curnier"), None),
+            "contact_solver=alart_curnier"
+        );
+        assert_eq!(
+            with("backward_euler", None, Some("direct")),
+            "linear_solver=direct"
+        );
+        assert_eq!(with("taylor_flanagan", None, Some("cg")), "");
+        let mut weak = RunSpec::new("standard", "backward_euler", 0.1, 1.0);
+        weak.options.contact = Some("weak".into());
+        weak.options.contact_multiplier = Some("p0".into());
+        weak.options.contact_solver = Some("clarabel".into());
+        assert_eq!(
+            weak.parameters().unwrap(),
+            "contact=weak_p0;contact_solver=clarabel"
+        );
+    }
 }

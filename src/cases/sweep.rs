@@ -21,7 +21,9 @@ use serde::Deserialize;
 use std::collections::BTreeMap;
 
 /// One scheme with its options (unset ones take the case's `[run]` values): the same keys as
-/// `[run]` (`beta`, `contact`, `contact_solver`, …).
+/// `[run]` (`beta`, `contact`, `contact_solver`, …). Every option that changes the run is in
+/// its key and its records' `parameters` ([`super::RunSpec::parameters`]): two entries that
+/// differ by a solver alone are two runs.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 pub struct SchemeChoice {
     /// Scheme name.

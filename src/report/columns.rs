@@ -18,7 +18,7 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("case", "—", "the case kind (`case` of the case file)"),
     ("space", "—", "space discretisation of the inertia (`dyncontact list`)"),
     ("scheme", "—", "time scheme"),
-    ("parameters", "—", "the scheme's parameters `name=value;…`, then for a formulation other than `nodal` `contact=<label>` and its parameters"),
+    ("parameters", "—", "the scheme's parameters `name=value;…`, then for a formulation other than `nodal` `contact=<label>` and its parameters, then `contact_solver=<name>` for a contact solver other than `active_set` (a friction run without one set takes `alart_curnier`, written as nothing) and `linear_solver=<name>` for a linear solver other than `auto` with a scheme that solves a linear system"),
     ("contact", "—", "contact formulation as labelled: `nodal`, `weak_p1`, `weak_p0`, `nitsche`, `penalty`"),
     ("degree", "—", "polynomial degree of the displacement (empty for the 0D spring)"),
     ("cells", "—", "cell shape: `segment` (1D), `triangle`, `quad`, `tet`, `hex` (empty for the 0D spring)"),

@@ -68,7 +68,8 @@ pub struct Job {
     pub refinement: Refinement,
     /// The run's name in the records and the name of its probe file (`probes/<key>.csv`):
     /// `<case file>-<sweep>-<space>-<scheme>[-<parameters>]-L<level>`, e.g.
-    /// `bar1d-orders-standard-newmark-beta=0.5;gamma=0.5-L0` (`--quick` keeps the same keys).
+    /// `bar1d-orders-standard-newmark-beta=0.5;gamma=0.5-L0` (`--quick` keeps the same keys;
+    /// a solver other than its default is a parameter: `…-backward_euler-linear_solver=cg-L0`).
     pub key: String,
     overrides: cases::Overrides,
     /// The run's estimated size and its steps, for [`Job::estimate`].
@@ -138,8 +139,9 @@ pub fn distinct_keys(jobs: &[Job]) -> Result<()> {
             "a `-` in a case file's or a sweep's name lets the keys `<case file>-<sweep>-…` of \
              two runs meet: rename the case file or the sweep"
         } else {
-            "one run listed twice (the same scheme and parameters twice in `schemes`, or two \
-             [[sweep]] tables of one name)"
+            "one run listed twice (the same scheme, parameters and solvers twice in `schemes`, \
+             a linear solver counting as unset with a scheme that solves no linear system; or \
+             two [[sweep]] tables of one name)"
         };
         let run = |j: &Job| format!("{} sweep `{}`", j.file.path.display(), j.sweep);
         return Err(Error::invalid(

@@ -24,7 +24,8 @@ pub struct Summary {
     pub space: String,
     /// Scheme name.
     pub scheme: String,
-    /// Scheme parameters, `key=value;…`.
+    /// Scheme parameters, `key=value;…`, with the formulation's and the solvers' other than
+    /// the defaults ([`crate::cases::RunSpec::parameters`]).
     pub parameters: String,
     /// Contact formulation as labelled (`nodal`, `weak_p1`, `nitsche`, `penalty`).
     pub contact: String,

@@ -30,7 +30,7 @@ pub mod taylor_flanagan;
 use crate::error::Result;
 use crate::param::{Entry, Params};
 pub use scheme::{check_friction, Integrator, Scheme, Solvers, State, StepInfo};
-pub use step::{LinearSolver, LINEAR_SOLVERS};
+pub use step::{LinearSolver, DEFAULT_LINEAR_SOLVER, LINEAR_SOLVERS};
 
 /// The schemes, one registry line each (their parameters are declared in their files).
 pub const SCHEMES: &[Entry<dyn Scheme>] = &[

@@ -26,7 +26,10 @@ pub enum LinearSolver {
 }
 
 /// Linear solver names accepted by [`LinearSolver::by_name`].
-pub const LINEAR_SOLVERS: &[&str] = &["auto", "direct", "cg"];
+pub const LINEAR_SOLVERS: &[&str] = &[DEFAULT_LINEAR_SOLVER, "direct", "cg"];
+
+/// Default linear solver (`--linear-solver`).
+pub const DEFAULT_LINEAR_SOLVER: &str = "auto";
 
 impl LinearSolver {
     /// The linear solver called `name`.

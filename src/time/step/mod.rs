@@ -33,7 +33,7 @@ pub mod trapezoidal;
 
 pub use contact_step::{
     cg_pays, stiffness_weight, ContactStep, LinearSolver, AUTO_CG_DOFS, AUTO_DIRECT_WEIGHT_2D,
-    LINEAR_SOLVERS,
+    DEFAULT_LINEAR_SOLVER, LINEAR_SOLVERS,
 };
 pub use friction::FrictionStep;
 pub use stepper::{initial_acceleration, time_step, Stepper, ThreeLevel};
