@@ -2617,3 +2617,27 @@ fn a_sweep_compares_solvers_each_run_keyed_and_recorded_with_its_own() {
         "{summary}"
     );
 }
+
+/// Found by a fourth round of hostile inputs: a slide on a slope ran against the flat slide's
+/// rigid reference (slide2d at slope 0.2: `slide_velocity_err` 0.81, `stop_time` empty,
+/// `stop_distance` 4.42, all against the deceleration μ g where the slope gives
+/// g (μ cos α − sin α)), exit 0. The slides refuse a slope, naming it; the cases without a
+/// reference (the blocks, disc2d) and roll2d, whose reference has it, keep it.
+#[test]
+fn a_slide_on_a_slope_is_refused_for_its_flat_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    let tilted = "gravity = 1.0\nslope = 0.2";
+    for file in ["slide2d.toml", "slide3d.toml"] {
+        let case = edited(dir.path(), file, &[("gravity = 1.0", tilted)]);
+        let out = run(&[&case], &["--t-end", "0.1", "--out", o]);
+        assert_clear_error(
+            &out,
+            &[&case, "`geometry.slope`: 0.2", "flat plane", "roll2d"],
+        );
+    }
+    let block = edited(dir.path(), "block2d.toml", &[("gravity = 0.0", tilted)]);
+    let out = run(&[&block], &["--t-end", "0.01", "--out", o]);
+    assert!(out.status.success(), "{}", stderr(&out));
+}

@@ -9,7 +9,8 @@
 //!   friction: it rolls when μ ≥ tan α / 3 ([`crate::exact::roll`]);
 //! - `slide2d` / `slide3d`: a box resting on the plane under gravity, launched along the first
 //!   axis (`tangential_velocity`), with Coulomb friction (`[contact] friction = μ`): its centre
-//!   of mass against the rigid-body slide ([`crate::exact::slide`]);
+//!   of mass against the rigid-body slide on the flat plane ([`crate::exact::slide`]; a `slope`
+//!   is refused);
 //! - `oblique3d`: hertz3d's sphere thrown at the plane at an incidence θ with friction: its
 //!   tangential restitution and rebound spin against the rigid-body limits and Chung & Ooi's
 //!   curve ([`crate::exact::oblique`]); `[oblique]` lists the report's incidences.
@@ -75,7 +76,9 @@ pub struct Geometry {
     #[serde(default)]
     pub gravity: f64,
     /// Slope α of the plane in radians, |α| < π/2 (the roll case): gravity is
-    /// `g (sin α e_1 − cos α e_d)` in the plane's frame (default 0).
+    /// `g (sin α e_1 − cos α e_d)` in the plane's frame (default 0). Refused by the slides, whose
+    /// rigid reference is the flat slide, and by Hertz impacts and pairs (no gravity, or none
+    /// tilted); the blocks and disc2d take it (no reference).
     #[serde(default)]
     pub slope: f64,
 }
@@ -773,6 +776,15 @@ impl Body {
                     field,
                     value,
                     "a slide starts on the plane at rest along its normal (velocity = 0, lift = 0)",
+                ));
+            }
+            if g.slope != 0.0 {
+                return Err(Error::invalid(
+                    "geometry.slope",
+                    g.slope,
+                    "the rigid slide this case is measured against (slide_velocity_err, \
+                     stop_time, stop_distance) is on a flat plane, decelerating at μ g: on a \
+                     slope it would be wrong (roll2d is the case on a slope)",
                 ));
             }
             Some(Slide::new(g.tangential_velocity, g.gravity, friction)?)
