@@ -65,7 +65,7 @@ const DOCS: &[(&str, &str, &str)] = &[
     ("stop_distance", "case (length)", "slide cases with friction: the distance the centre of mass travels over the run (trapezoidal rule on its velocity; the rigid block stops after `v₀²/(2μg)`)"),
     ("friction_balance", "1", "runs with friction: `max_n |E_n + W_f,n − E_0| / |E_0|`, the energy balance with the friction work (0 for a scheme that conserves energy up to what friction dissipates)"),
     ("friction_work_min_step", "case (energy)", "runs with friction: `min_n (W_f,n+1 − W_f,n)`, the least friction work of a step (negative: friction gave energy back)"),
-    ("tangential_restitution", "1", "oblique impact (a sphere with friction, released by the final time): `e_t = v_t(T) / v_t(0)`, the centre of mass's tangential velocity after over before"),
+    ("tangential_restitution", "1", "oblique impact (a sphere or disc with friction and no load, released by the final time): `e_t = v_t(T) / v_t(0)`, the centre of mass's tangential velocity after over before"),
     ("rebound_spin", "case (1/time)", "oblique impact: the angular velocity ω at the final time (`angular_velocity`; positive: rolling forwards)"),
     ("normal_impulse", "case (mass·length/time)", "oblique impact: `J_n = m_n (v_n(T) − v_n(0))`, the impulse of the contact forces along the normal from the momentum they changed (`m_n = 1ᵀM̃1` along the normal)"),
     ("tangential_impulse", "case (mass·length/time)", "oblique impact: `J_t = m_t (v_t(T) − v_t(0))` along the first tangent (negative: against the motion); `|J_t| = μ J_n` when the contact slides throughout"),

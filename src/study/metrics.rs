@@ -401,7 +401,8 @@ pub fn friction(m: &mut Metrics, rows: &[Row], slide: Option<&Slide>) {
 /// `friction` and `spin`, moving towards the plane at t = 0 and released at the last two
 /// samples; nothing otherwise): `e_t`, `ω'`, the impulses from the momentum the contact changed
 /// (`masses = (m_t, m_n)`), and the normal restitution `−v_n(T)/v_n(0)` of the centre of mass
-/// (replaces the probe's).
+/// (replaces the probe's). Not called for a body under a load: its momentum also holds the
+/// load's impulse (a disc thrown under gravity).
 pub fn oblique(m: &mut Metrics, rows: &[Row], (m_t, m_n): (f64, f64)) {
     let n = rows.len();
     let (Some(first), Some(last)) = (rows.first(), rows.last()) else {

@@ -366,7 +366,8 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
         metrics::hertz(&mut metrics, &rows, (&vertex_lambda, vertex_area), i);
     }
     metrics::friction(&mut metrics, &rows, case.slide().as_ref());
-    if let Some(masses) = masses {
+    // The impulses are the momentum the contact changed: a load (gravity) would add its own.
+    if let Some(masses) = masses.filter(|_| problem.f.iter().all(|&f| f == 0.0)) {
         metrics::oblique(&mut metrics, &rows, masses);
     }
     metrics.drop_non_finite();
