@@ -142,7 +142,9 @@ enum Command {
         out: PathBuf,
         /// Write the fields (displacement, velocity, von Mises stress, contact pressure) for
         /// ParaView into DIR: `<case>_<sample>.vtu` files and their `<case>.pvd` collection
-        /// (2D/3D body cases; two_discs/two_spheres: both bodies in one grid, cell array `body`).
+        /// (2D/3D body cases; two_discs/two_spheres: both bodies in one grid, cell array `body`);
+        /// an earlier run's `<case>_<sample>.vtu` files there that the new collection does not
+        /// list are removed.
         #[arg(long, value_name = "DIR")]
         vtu: Option<PathBuf>,
         /// With --vtu, write every K-th sample (the initial state included).
@@ -292,7 +294,8 @@ fn sweep(
 }
 
 /// The files `run` writes: [`run::RUN_FILES`] and the lock in `out`, and with `--vtu` the
-/// collection `<case>.pvd` and the inputs that its `<case>_<sample>.vtu` files would replace.
+/// collection `<case>.pvd` and the inputs that its `<case>_<sample>.vtu` files would replace
+/// or remove (an earlier run's samples that the new collection does not list).
 fn run_outputs(
     out: &Path,
     vtu: Option<&Path>,
@@ -306,14 +309,10 @@ fn run_outputs(
         .collect();
     if let Some(dir) = vtu {
         outputs.push(("--vtu", dir.join(format!("{case}.pvd"))));
-        let sample = |name: &str| {
-            name.strip_prefix(&format!("{case}_"))
-                .and_then(|n| n.strip_suffix(".vtu"))
-                .is_some_and(|n| n.bytes().all(|b| b.is_ascii_digit()))
-        };
+        // The series' files a run writes, and removes when its collection does not list them.
         outputs.extend(inputs.iter().filter_map(|(_, p)| {
             let name = p.file_name()?.to_str()?;
-            sample(name).then(|| ("--vtu", dir.join(name)))
+            dyncontact::output::vtu::series_index(case, name).map(|_| ("--vtu", dir.join(name)))
         }));
     }
     outputs

@@ -197,3 +197,57 @@ fn both_bodies_velocity_from_their_own_h_h() {
         );
     }
 }
+
+/// A second run into the same `--vtu` directory left the first run's files beside its `.pvd`
+/// (every sample, then every 5th: `block2d_000001.vtu` … stayed, and ParaView's grouping by
+/// name mixed the two runs): the files of the case's series that the new collection does not
+/// list go, every other file (another pattern, another case, a directory) stays.
+#[test]
+fn a_second_run_removes_the_first_runs_samples_and_nothing_else() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = Overrides {
+        dt: Some(0.001),
+        t_end: Some(0.01),
+        ..Default::default()
+    };
+    let c = load(Path::new("cases/block2d.toml"), &o).unwrap();
+    let run = |every| {
+        let out = FieldOutput {
+            dir: dir.path().to_path_buf(),
+            every,
+        };
+        run_with_output(c.as_ref(), false, Some(&out)).unwrap();
+    };
+    run(1);
+    let mine = [
+        "block2d_12.vtu",
+        "block2d_0000003.vtu",
+        "block2d_000003.vtu.bak",
+        "block3d_000003.vtu",
+        "notes.txt",
+    ];
+    for f in mine {
+        std::fs::write(dir.path().join(f), "mine").unwrap();
+    }
+    std::fs::create_dir(dir.path().join("block2d_000099.vtu")).unwrap();
+    run(5);
+    let mut names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    let mut expected: Vec<&str> = [
+        "block2d.pvd",
+        "block2d_000000.vtu",
+        "block2d_000005.vtu",
+        "block2d_000010.vtu",
+        "block2d_000099.vtu",
+    ]
+    .into_iter()
+    .chain(mine)
+    .collect();
+    expected.sort();
+    assert_eq!(names, expected);
+    let pvd = std::fs::read_to_string(dir.path().join("block2d.pvd")).unwrap();
+    assert_eq!(pvd.matches("<DataSet").count(), 3, "{pvd}");
+}

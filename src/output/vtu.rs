@@ -92,9 +92,33 @@ pub fn vtk_order(el: &RefElement) -> (CellType, Vec<usize>) {
     (cell_type, order)
 }
 
+/// The name of sample `index`'s file in the series `stem`: `<stem>_<index:06>.vtu`.
+fn series_name(stem: &str, index: usize) -> String {
+    format!("{stem}_{index:06}.vtu")
+}
+
+/// The sample index of the file `name` when [`VtuSeries`] names a file of the series `stem`
+/// so, exactly (`block2d_000012.vtu`; not `block2d_12.vtu`, `block2d_0000012.vtu` or
+/// `block2d_+00012.vtu`): the files a run of the case may write, replace or remove in its
+/// `--vtu` directory.
+pub fn series_index(stem: &str, name: &str) -> Option<usize> {
+    let digits = name
+        .strip_prefix(stem)?
+        .strip_prefix('_')?
+        .strip_suffix(".vtu")?;
+    let index = digits
+        .bytes()
+        .all(|b| b.is_ascii_digit())
+        .then(|| digits.parse().ok())??;
+    (series_name(stem, index) == name).then_some(index)
+}
+
 /// Fields of a body (or of several bodies, one grid) written every `every` samples into `dir`
 /// as `<stem>_<index>.vtu`, listed in `<stem>.pvd` (rewritten after each file, so that it is
-/// valid if the run stops).
+/// valid if the run stops). The files of the series `<stem>` in `dir` that the collection does
+/// not list (an earlier run's, at other samples) are removed once the first file is written,
+/// so that the directory holds one run's series whenever the run stops: ParaView groups the
+/// files of a directory by their name pattern, and would mix two runs.
 pub struct VtuSeries<'a> {
     parts: Vec<&'a Discretisation>,
     dir: PathBuf,
@@ -197,7 +221,7 @@ impl<'a> VtuSeries<'a> {
                 self.parts.len()
             )));
         }
-        let name = format!("{}_{index:06}.vtu", self.stem);
+        let name = series_name(&self.stem, index);
         let path = self.dir.join(&name);
         let (mut u, mut v, mut p, mut mises, mut body) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -238,7 +262,32 @@ impl<'a> VtuSeries<'a> {
             })
         })?;
         self.written.push((t, name));
-        self.write_collection()
+        self.write_collection()?;
+        if self.written.len() == 1 {
+            self.remove_stale()?;
+        }
+        Ok(())
+    }
+
+    /// Removes the files of `dir` named as files of this series ([`series_index`]) that the
+    /// collection does not list: an earlier run's samples (directories of such a name are left
+    /// alone, and so is every other file).
+    fn remove_stale(&self) -> Result<()> {
+        let dir = &self.dir;
+        for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
+            let entry = entry.map_err(|e| Error::io(dir, e))?;
+            let path = entry.path();
+            let Some(name) = path.file_name().and_then(|n| n.to_str()) else {
+                continue;
+            };
+            let stale = series_index(&self.stem, name).is_some()
+                && !self.written.iter().any(|(_, f)| f == name)
+                && !entry.file_type().map_err(|e| Error::io(&path, e))?.is_dir();
+            if stale {
+                std::fs::remove_file(&path).map_err(|e| Error::io(&path, e))?;
+            }
+        }
+        Ok(())
     }
 
     /// The `.pvd` collection of the files written so far.
@@ -291,6 +340,28 @@ pub fn read_array(path: &Path, name: &str) -> Result<Vec<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The series' file names are recognised exactly as the writer makes them.
+    #[test]
+    fn series_files_are_recognised_by_the_writers_exact_pattern() {
+        for (name, index) in [
+            ("block2d_000000.vtu", Some(0)),
+            ("block2d_000012.vtu", Some(12)),
+            ("block2d_1234567.vtu", Some(1234567)),
+            ("block2d_12.vtu", None),
+            ("block2d_0000012.vtu", None),
+            ("block2d_+00012.vtu", None),
+            ("block2d_000012.vtu.bak", None),
+            ("block2d_000012.VTU", None),
+            ("block2d.pvd", None),
+            ("block2d_x_000012.vtu", None),
+            ("block3d_000012.vtu", None),
+            ("my_block2d_000012.vtu", None),
+        ] {
+            assert_eq!(series_index("block2d", name), index, "{name}");
+        }
+        assert_eq!(series_index("block2d", &series_name("block2d", 7)), Some(7));
+    }
 
     /// Every VTK node maps to a distinct local node, for every element family.
     #[test]
