@@ -349,7 +349,10 @@ fn nitsche_is_refused_where_it_does_not_apply() {
     o.options.contact = Some("nitsche".into());
     let case = cases::load(Path::new("cases/spring_mass.toml"), &o).unwrap();
     let e = run(case.as_ref()).err().unwrap().to_string();
-    assert!(e.contains("needs σ_N on Γ_C"), "{e}");
+    assert!(
+        e.contains("integrates σ_N over Γ_C, and a point mass has none"),
+        "{e}"
+    );
     // θ = 1 with γ₀ too small: K − θ Σ w γ SᵀS is indefinite on the massless contact dofs.
     let mut o = Overrides {
         t_end: Some(0.01),

@@ -2640,4 +2640,37 @@ fn a_slide_on_a_slope_is_refused_for_its_flat_reference() {
     let block = edited(dir.path(), "block2d.toml", &[("gravity = 0.0", tilted)]);
     let out = run(&[&block], &["--t-end", "0.01", "--out", o]);
     assert!(out.status.success(), "{}", stderr(&out));
+
+/// Nitsche on a pair said it "needs σ_N on Γ_C, which this case does not provide (bar1d and
+/// the meshed bodies do)" of two meshed bodies: the reason is that Nitsche between two bodies
+/// is not implemented, and the message says so (the spring–mass: it has no Γ_C).
+#[test]
+fn nitsche_on_two_bodies_is_refused_as_not_implemented() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let o = o.to_str().unwrap();
+    for case in [
+        "cases/two_discs.toml",
+        "cases/slide_on_block2d.toml",
+        "cases/two_bars.toml",
+    ] {
+        let out = run(&[case, "--contact", "nitsche"], &["--out", o]);
+        assert_clear_error(
+            &out,
+            &[
+                case,
+                "nitsche contact between two bodies is not implemented",
+            ],
+        );
+        assert!(
+            !stderr(&out).contains("meshed bodies do"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    let out = run(
+        &["cases/spring_mass.toml", "--contact", "nitsche"],
+        &["--out", o],
+    );
+    assert_clear_error(&out, &["a point mass has none"]);
 }

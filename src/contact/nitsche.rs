@@ -64,7 +64,7 @@ use super::{Enforcement, Formulation, SolveInfo, Solver};
 use crate::error::{in_range, positive, Error, Result, SolverError};
 use crate::linalg::TripletBuilder;
 use crate::param::{Entry, Options, Param};
-use crate::problem::{BoundaryPoint, ContactEnergy, Problem, VertexMap};
+use crate::problem::{BoundaryPoint, ContactEnergy, NoQuadrature, Problem, VertexMap};
 use faer::linalg::solvers::Solve;
 use nalgebra::DMatrix;
 
@@ -125,6 +125,25 @@ fn combine(b: &[(usize, f64)], s: &[(usize, f64)], c: f64) -> Vec<(usize, f64)> 
         .collect()
 }
 
+/// Why a case without boundary quadrature is refused: Nitsche's terms are integrals of σ_N
+/// over Γ_C of one body against the rigid plane.
+fn refusal(why: NoQuadrature) -> Error {
+    let only = "nitsche runs on one body against the rigid plane (bar1d, bar_flight and the \
+                meshed bodies); use contact = \"nodal\"";
+    match why {
+        NoQuadrature::TwoBodies => Error::Unsupported(format!(
+            "nitsche contact between two bodies is not implemented (its integrals over their \
+             interface, docs/methods.md): {only}"
+        )),
+        NoQuadrature::PointMass => Error::Unsupported(format!(
+            "nitsche contact integrates σ_N over Γ_C, and a point mass has none: {only}"
+        )),
+        NoQuadrature::Taken => {
+            Error::Internal("the boundary quadrature of Γ_C was taken before nitsche's".into())
+        }
+    }
+}
+
 impl Formulation for Nitsche {
     fn name(&self) -> &'static str {
         "nitsche"
@@ -179,13 +198,7 @@ impl Formulation for Nitsche {
     /// documentation); the probe becomes the point nearest the probe vertex. The per-step law is
     /// [`NitscheLaw`] (the LCP solver chosen is not used).
     fn setup(&self, problem: &mut Problem, _solver: &str) -> Result<Box<dyn Solver>> {
-        let points = problem.contact.quadrature.take().ok_or_else(|| {
-            Error::Unsupported(
-                "nitsche contact needs σ_N on Γ_C, which this case does not provide (bar1d and \
-                 the meshed bodies do)"
-                    .into(),
-            )
-        })?;
+        let points = problem.contact.take_quadrature().map_err(refusal)?;
         let n = problem.k.ncols();
         let mut gap = TripletBuilder::new(points.len(), n);
         let mut force = TripletBuilder::new(points.len(), n);

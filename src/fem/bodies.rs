@@ -43,7 +43,7 @@ use crate::error::{Error, Result};
 use crate::fem::discretisation::{Discretisation, Initial, PENETRATION_TOLERANCE};
 use crate::fem::mass_model::{ElementMass, ElementMixed, MassModel, VelocitySpace};
 use crate::linalg::{SpMat, TripletBuilder};
-use crate::problem::{Contact, ContactFace, Friction, Inertia, Probe, Problem};
+use crate::problem::{Contact, ContactFace, Friction, Inertia, NoQuadrature, Probe, Problem};
 
 /// Distance, in master mesh sizes h, within which two faces' projected points are one point
 /// (an edge or vertex where their normals are averaged).
@@ -457,7 +457,7 @@ impl Bodies {
                 .collect(),
             faces,
             vertices: None,
-            quadrature: None,
+            quadrature: Err(NoQuadrature::TwoBodies),
             force: None,
             normal: None,
             energy: Vec::new(),

@@ -483,7 +483,7 @@ impl Discretisation {
             area: self.contact_vertices.iter().map(|v| v.1).collect(),
             faces,
             vertices: None,
-            quadrature: Some(contact_points(
+            quadrature: Ok(contact_points(
                 &self.mesh,
                 &self.contact_faces,
                 self.lame,

@@ -6,7 +6,7 @@
 use crate::error::Result;
 use crate::fem::mass_model::{ElementMass, MassModel};
 use crate::linalg::TripletBuilder;
-use crate::problem::{Contact, ContactFace, Inertia, Probe, Problem};
+use crate::problem::{Contact, ContactFace, Inertia, NoQuadrature, Probe, Problem};
 use nalgebra::DMatrix;
 
 /// A point mass on a spring.
@@ -67,7 +67,7 @@ impl PointMass {
                 area: vec![1.0],
                 faces: vec![ContactFace::point(0)],
                 vertices: None,
-                quadrature: None,
+                quadrature: Err(NoQuadrature::PointMass),
                 force: None,
                 normal: None,
                 energy: Vec::new(),

@@ -22,8 +22,8 @@ pub struct Contact {
     /// When the rows are not the vertices of Γ_C (P0 multipliers): how their forces spread to
     /// the vertices; None when row i is vertex i.
     pub vertices: Option<VertexMap>,
-    /// Quadrature points of Γ_C for boundary integrals, when the case provides them.
-    pub quadrature: Option<Vec<BoundaryPoint>>,
+    /// Quadrature points of Γ_C for boundary integrals, or why the case provides none.
+    pub quadrature: std::result::Result<Vec<BoundaryPoint>, NoQuadrature>,
     /// The rows whose transpose applies the contact force (`−Qᵀ λ`) when they are not `B_N`
     /// (Nitsche's `Q`); the Delassus operator `c B_N A⁻¹ Qᵀ` is then not symmetric.
     pub force: Option<SpMat>,
@@ -89,6 +89,19 @@ impl Friction {
     pub fn slip_rows(&self) -> &SpMat {
         self.slip.as_ref().unwrap_or(&self.b_t)
     }
+}
+
+/// Why a contact has no boundary quadrature ([`Contact::quadrature`]), which Nitsche's method
+/// integrates σ_N over: a formulation that needs one refuses the case for its own reason.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoQuadrature {
+    /// A point mass: no Γ_C to integrate over.
+    PointMass,
+    /// Contact between two bodies (node-to-node or node-to-segment rows, a second body's plane
+    /// appended): integrals over their interface are not implemented.
+    TwoBodies,
+    /// A formulation took the points already (it replaced the rows: a bug to ask again).
+    Taken,
 }
 
 /// A quadrature point `x_q` of Γ_C for boundary integrals (Nitsche's method,
@@ -169,6 +182,12 @@ pub struct VertexMap {
 }
 
 impl Contact {
+    /// The boundary quadrature of Γ_C, taken out of the contact (a formulation that replaces
+    /// the rows by its own), or why there is none.
+    pub fn take_quadrature(&mut self) -> std::result::Result<Vec<BoundaryPoint>, NoQuadrature> {
+        std::mem::replace(&mut self.quadrature, Err(NoQuadrature::Taken))
+    }
+
     /// The rows whose transpose applies the contact force (`−Qᵀ λ`): B_N, or Nitsche's Q.
     pub fn force_rows(&self) -> &SpMat {
         self.force.as_ref().unwrap_or(&self.b_n)
@@ -203,7 +222,8 @@ fn stack(a: &SpMat, b: &SpMat, offset: usize) -> Result<SpMat> {
 impl Contact {
     /// Appends the nodal rows of `other`, a contact of a body whose dofs start at `offset` (a
     /// second body's rigid plane): its rows of `B_N`, g₀, areas and faces follow these; the
-    /// boundary quadrature (of one Γ_C, for Nitsche's method) is dropped. Friction with frictionless appended points
+    /// boundary quadrature (of one Γ_C, for Nitsche's method) is dropped
+    /// ([`NoQuadrature::TwoBodies`]). Friction with frictionless appended points
     /// ([`Friction::frictionless`]): `other`'s `B_T`, or refused when it has none.
     pub fn append(&mut self, other: &Contact, offset: usize) -> Result<()> {
         let plain = |c: &Contact| {
@@ -222,7 +242,7 @@ impl Contact {
             rows: f.rows.iter().map(|r| r + n).collect(),
             mass: f.mass.clone(),
         }));
-        self.quadrature = None;
+        self.quadrature = Err(NoQuadrature::TwoBodies);
         if let Some(f) = self.friction.as_mut() {
             let Some(o) = &other.friction else {
                 return Err(Error::Internal(

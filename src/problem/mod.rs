@@ -12,7 +12,9 @@ pub mod contact;
 pub mod energy;
 pub mod inertia;
 
-pub use contact::{BoundaryPoint, Contact, ContactEnergy, ContactFace, Friction, VertexMap};
+pub use contact::{
+    BoundaryPoint, Contact, ContactEnergy, ContactFace, Friction, NoQuadrature, VertexMap,
+};
 pub use energy::EnergyForm;
 pub use inertia::{Inertia, StepOperator};
 
