@@ -167,7 +167,8 @@ impl Error {
     }
 
     /// The error named after the case file `path` when it is about the case's input (a field's
-    /// value, an unknown name, a refused combination) or its run (a divergence, a solver or
+    /// value, an unknown name, a refused combination, its mesh: a node below the plane, named
+    /// after the mesh file or generator next) or its run (a divergence, a solver or
     /// factorisation failure, each with its step), as the errors of reading the file are; an
     /// output file's error names that file instead, an internal error the bug.
     pub fn from_case_input(self, path: &std::path::Path) -> Self {
@@ -175,6 +176,7 @@ impl Error {
             Error::InvalidField { .. }
             | Error::UnknownName { .. }
             | Error::Unsupported(_)
+            | Error::Mesh { .. }
             | Error::ContactSolver { .. }
             | Error::Diverged { .. }
             | Error::SmallSliding { .. }

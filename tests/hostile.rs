@@ -2674,3 +2674,28 @@ fn nitsche_on_two_bodies_is_refused_as_not_implemented() {
     );
     assert_clear_error(&out, &["a point mass has none"]);
 }
+
+/// A Gmsh mesh with a node below the plane was refused as `error: /path/below.msh: node 1 …`
+/// without the case file, which every other error of `run` names first: now the case file,
+/// then the mesh file, each once.
+#[test]
+fn a_mesh_error_of_a_run_names_the_case_file_then_the_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let mesh = dir.path().join("below.msh");
+    let below = fan_msh([0.5, 0.5]).replace("0 0 0\n1 0 0\n", "0 -0.1 0\n1 0 0\n");
+    std::fs::write(&mesh, below).unwrap();
+    let m = mesh.to_str().unwrap();
+    let out = run(
+        &["cases/block2d.toml", "--mesh", m, "--t-end", "0.01"],
+        &["--out", o.to_str().unwrap()],
+    );
+    assert_clear_error(&out, &["below the plane"]);
+    let e = stderr(&out);
+    assert!(
+        e.starts_with(&format!("error: cases/block2d.toml: {m}: node 1 ")),
+        "{e}"
+    );
+    assert_eq!(e.matches("cases/block2d.toml").count(), 1, "{e}");
+    assert_eq!(e.matches(m).count(), 1, "{e}");
+}
