@@ -356,7 +356,35 @@ fn a_gmsh_contact_group_the_plane_cannot_meet_is_refused_naming_the_face_or_node
     );
     std::fs::write(&mesh, raised).unwrap();
     let out = run(&args, &["--out", o.to_str().unwrap()]);
-    assert_clear_error(&out, &["sq.msh", "node 1", "as low as Γ_C's lowest vertex"]);
+    assert_clear_error(
+        &out,
+        &[
+            "sq.msh",
+            "node 1",
+            "lies below Γ_C's lowest vertex (x_2 = 0.5) by 5.000e-1",
+        ],
+    );
+    // A plate 1e-7 thick (h = 0.5 along Γ_C): its top corner is 1e-7 above Γ_C, within the
+    // tolerance 1e-6 h; it said "lies as low as Γ_C's lowest vertex or lower (by -1.000e-7".
+    let thin = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n\
+         $PhysicalNames\n2\n1 1 \"contact\"\n2 2 \"body\"\n$EndPhysicalNames\n\
+         $Entities\n0 1 1 0\n1 0 0 0 1 0 0 1 1 0\n1 0 0 0 1 1e-7 0 1 2 0\n$EndEntities\n\
+         $Nodes\n1 6 1 6\n2 1 0 6\n1\n2\n3\n4\n5\n6\n\
+         0 0 0\n0.5 0 0\n1 0 0\n1 1e-7 0\n0.5 1e-7 0\n0 1e-7 0\n$EndNodes\n\
+         $Elements\n2 4 1 4\n1 1 1 2\n1 1 2\n2 2 3\n2 1 3 2\n3 1 2 5 6\n4 2 3 4 5\n\
+         $EndElements\n";
+    std::fs::write(&mesh, thin).unwrap();
+    let out = run(&args, &["--out", o.to_str().unwrap()]);
+    assert_clear_error(
+        &out,
+        &[
+            "sq.msh",
+            "node 6 at [0.0, 1e-7]",
+            "lies 1.000e-7 above Γ_C's lowest vertex (x_2 = 0), less than the tolerance 5.000e-7",
+            "too thin",
+        ],
+    );
+    assert!(!stderr(&out).contains("by -"), "{}", stderr(&out));
 }
 
 /// `two_bars` ran `lengths = [1.0, 1.0, 7.0]` as [1.0, 1.0], the third entry unread (and

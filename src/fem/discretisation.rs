@@ -62,6 +62,36 @@ pub struct Initial {
     pub lift: f64,
 }
 
+/// Why a node off Γ_C at height `x` (along `e_d`) is refused by
+/// [`Discretisation::check_tagged_contact`] against Γ_C's lowest vertex at `lowest`: it lies
+/// below it (the body would sink through the plane there), or above it by less than the
+/// tolerance `PENETRATION_TOLERANCE · h` within which a node is taken to be at Γ_C's level (as
+/// for an initial penetration): the top of a plate thinner than the tolerance, which the check
+/// cannot tell from its bottom.
+fn lower_than(x: f64, lowest: f64, h: f64, d: usize) -> String {
+    let level = format!(
+        "Γ_C's lowest vertex (x_{d} = {})",
+        crate::error::short(lowest)
+    );
+    if x < lowest {
+        format!(
+            "lies below {level} by {:.3e}: the body would meet the plane there, outside Γ_C, and \
+             sink through it (tag the lower part of the boundary as the contact group)",
+            lowest - x
+        )
+    } else {
+        format!(
+            "lies {:.3e} above {level}, less than the tolerance {:.3e} ({PENETRATION_TOLERANCE:e} \
+             h, h = {}) within which a node is taken to be at Γ_C's level: the body is too thin \
+             there to tell this node from Γ_C, and it would meet the plane outside Γ_C (make the \
+             body thicker than the tolerance, or tag the faces through the node as contact too)",
+            x - lowest,
+            PENETRATION_TOLERANCE * h,
+            crate::error::short(h)
+        )
+    }
+}
+
 impl Discretisation {
     /// Checks the mesh (no inverted or degenerate cell; a 1D mesh uniform, every cell of length
     /// `h`) and selects Γ_C by `rule`; every node free.
@@ -87,7 +117,8 @@ impl Discretisation {
     /// refuses a group whose every face points away from the plane, `n_d > FACING` (side faces
     /// and a sphere's equator, `n_d ≈ 0`, face it; so does a whole boundary), and a vertex of the
     /// cells off Γ_C as low as Γ_C's lowest vertex, within `PENETRATION_TOLERANCE · h`, or lower
-    /// (the body would meet the plane outside Γ_C and sink through it).
+    /// (the body would meet the plane outside Γ_C and sink through it; a body thinner than that
+    /// tolerance is refused so: its top cannot be told from its bottom at the plane's level).
     pub fn check_tagged_contact(&self) -> Result<()> {
         let (d, mesh) = (self.dim(), &self.mesh);
         let refuse = |message: String| {
@@ -139,12 +170,10 @@ impl Discretisation {
             .min_by(|&a, &b| height(a).total_cmp(&height(b)));
         match below {
             Some(i) => refuse(format!(
-                "{} at {:?}, not on Γ_C, lies as low as Γ_C's lowest vertex or lower (by {:.3e}; \
-                 x_{d} = {lowest:e}): the body would meet the plane there, outside Γ_C, and sink \
-                 through it (tag the lower part of the boundary as the contact group)",
+                "{} at {:?}, not on Γ_C, {}",
                 mesh.node_name(i),
                 &mesh.nodes[i][..d],
-                lowest - height(i)
+                lower_than(height(i), lowest, mesh.h, d)
             )),
             None => Ok(()),
         }
