@@ -2727,3 +2727,25 @@ fn a_mesh_error_of_a_run_names_the_case_file_then_the_mesh() {
     assert_eq!(e.matches("cases/block2d.toml").count(), 1, "{e}");
     assert_eq!(e.matches(m).count(), 1, "{e}");
 }
+
+/// An element of a Gmsh file through a node tag the file does not list said only "element
+/// refers to unknown node 999": the element is named by its tag, with the file (a cell and a
+/// face of the contact group).
+#[test]
+fn an_element_through_an_unknown_node_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    let mesh = dir.path().join("unknown.msh");
+    let m = mesh.to_str().unwrap();
+    for (from, to, element) in [
+        ("4 3 4 5\n", "4 3 999 5\n", "element 4 refers to node 999"),
+        ("1 1 2\n", "1 1 777\n", "element 1 refers to node 777"),
+    ] {
+        std::fs::write(&mesh, fan_msh([0.5, 0.5]).replace(from, to)).unwrap();
+        let out = run(
+            &["cases/block2d.toml", "--mesh", m, "--t-end", "0.01"],
+            &["--out", o.to_str().unwrap()],
+        );
+        assert_clear_error(&out, &[&format!("{m}: {element}")]);
+    }
+}

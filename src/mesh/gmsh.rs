@@ -180,8 +180,11 @@ impl File {
     fn build(&self, cells_group: Option<&str>, group: &str) -> std::result::Result<Mesh, String> {
         let (dim, coords, data) = (self.dim, &self.coords, &self.msh.data);
         let elements = data.elements.as_ref().ok_or("no $Elements section")?;
-        let index = |tag: u64| -> std::result::Result<usize, String> {
-            (self.tag_index)(tag).ok_or_else(|| format!("element refers to unknown node {tag}"))
+        // The node of `tag` in element `element` (its Gmsh tag), which names an unknown one.
+        let index = |element: u64, tag: u64| -> std::result::Result<usize, String> {
+            (self.tag_index)(tag).ok_or_else(|| {
+                format!("element {element} refers to node {tag}, which $Nodes does not list")
+            })
         };
         let body = match cells_group {
             Some(name) => Some(entities(data, dim, self.group(name, dim)?)),
@@ -216,7 +219,7 @@ impl File {
                 let gm: Vec<usize> = e
                     .nodes
                     .iter()
-                    .map(|&t| index(t))
+                    .map(|&t| index(e.element_tag, t))
                     .collect::<std::result::Result<_, _>>()?;
                 cells.push(
                     reorder(&el, &gm, coords)
@@ -277,7 +280,7 @@ impl File {
             for e in &block.elements {
                 let f: Vec<usize> = e.nodes[..n_vert.min(e.nodes.len())]
                     .iter()
-                    .map(|&t| index(t))
+                    .map(|&t| index(e.element_tag, t))
                     .collect::<std::result::Result<_, _>>()?;
                 if let Some(&twice) = crate::util::first_repeated(&f) {
                     return Err(format!(
