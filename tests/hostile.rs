@@ -2749,3 +2749,29 @@ fn an_element_through_an_unknown_node_is_named() {
         assert_clear_error(&out, &[&format!("{m}: {element}")]);
     }
 }
+
+/// oblique3d at `--elements 2` (grading 25, inside its documented range [1, 1e10]) failed in
+/// the sphere generator's own mesh ("cell 28 … is inverted or degenerate"): refused naming
+/// mesh.elements (--elements) and mesh.grading, with the range of each at the other's value.
+#[test]
+fn a_sphere_too_coarse_for_its_grading_is_refused_naming_both_fields() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o");
+    for (n, grading, next) in [("2", "[1, 21.3]", "3"), ("1", "[1, 4.86]", "3")] {
+        let out = run(
+            &["cases/oblique3d.toml", "--elements", n, "--dt", "0.2"],
+            &["--out", o.to_str().unwrap()],
+        );
+        assert_clear_error(
+            &out,
+            &[
+                &format!(
+                    "cases/oblique3d.toml: invalid value for `mesh.elements (--elements)`: {n}"
+                ),
+                "fold at mesh.grading = 25",
+                &format!("at mesh.elements = {n} mesh.grading must lie in {grading}"),
+                &format!("next count that holds is mesh.elements = {next}"),
+            ],
+        );
+    }
+}

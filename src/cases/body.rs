@@ -30,6 +30,7 @@ use crate::exact::hertz::Hertz;
 use crate::exact::slide::Slide;
 use crate::fem::discretisation::{Discretisation, Initial};
 use crate::fem::elasticity::Lame;
+use crate::mesh::curved::RoundBody;
 use crate::mesh::structured::box_mesh;
 use crate::mesh::{ContactRule, Mesh, FACING};
 use crate::problem::Problem;
@@ -530,13 +531,14 @@ fn unused_by_shape(g: &Geometry, m: &MeshSpec) -> Result<()> {
 }
 
 /// The mesh a body's geometry, mesh and contact tables describe (a file when given, else the
-/// generated shape) and the rule that selects Γ_C on it.
+/// generated shape), the rule that selects Γ_C on it and, for a generated disc or sphere, its
+/// parameters (which explain a failed check of the mesh, [`RoundBody::explain`]).
 pub(super) fn build_mesh(
     (g, spec_mesh, contact): (&Geometry, &MeshSpec, &ContactSpec),
     o: &Overrides,
     kind: &str,
     dim: usize,
-) -> Result<(Mesh, ContactRule)> {
+) -> Result<(Mesh, ContactRule, Option<RoundBody>)> {
     let facing = match contact.facing {
         Some(t) => crate::error::in_range("contact.facing", t, 0.0, 1.0)?,
         None => FACING,
@@ -545,7 +547,7 @@ pub(super) fn build_mesh(
         refuse_generated(o, &file.display().to_string())?;
         let group = contact.group.as_deref().unwrap_or("contact");
         let mesh = crate::mesh::gmsh::read(file, dim, group)?;
-        return Ok((mesh, ContactRule::Tagged));
+        return Ok((mesh, ContactRule::Tagged, None));
     }
     if let Some(group) = &contact.group {
         return Err(Error::invalid(
@@ -563,6 +565,7 @@ pub(super) fn build_mesh(
         return Err(Error::invalid("mesh.elements", n, "must be ≥ 1"));
     }
     unused_by_shape(g, spec_mesh)?;
+    let mut round = None;
     let mesh = match g.shape.as_str() {
         "box" => {
             if g.size.len() != dim {
@@ -622,7 +625,13 @@ pub(super) fn build_mesh(
             let cells = (n as f64).powi(dim as i32) * (1.0 + dim as f64) * per_cell(&element);
             let nodes = generated_nodes(g, dim, n, degree);
             crate::util::check_memory("mesh.elements", n, assembly_bytes(&element, cells, nodes))?;
-            crate::mesh::curved::round_body(element, n, radius, spec_mesh.grading)?
+            let body = RoundBody {
+                element,
+                n,
+                grading: spec_mesh.grading,
+            };
+            round = Some(body);
+            body.mesh(radius)?
         }
         other => {
             return Err(Error::invalid(
@@ -632,7 +641,7 @@ pub(super) fn build_mesh(
             ))
         }
     };
-    Ok((mesh, ContactRule::Facing(facing)))
+    Ok((mesh, ContactRule::Facing(facing), round))
 }
 
 impl Body {
@@ -710,10 +719,10 @@ impl Body {
             ));
         }
         refuse_beside_file(&spec, kind, friction)?;
-        let (mesh, rule) = match mesh {
+        let (mesh, rule, round) = match mesh {
             Some(mesh) => {
                 refuse_generated(o, &mesh.origin)?;
-                (mesh, ContactRule::Tagged)
+                (mesh, ContactRule::Tagged, None)
             }
             None => build_mesh((g, &spec.mesh, &spec.contact), o, kind, dim)?,
         };
@@ -801,7 +810,11 @@ impl Body {
             Lame::from_young_poisson(m.young, m.poisson),
             m.density,
             rule,
-        )?;
+        )
+        .map_err(|e| match round {
+            Some(body) => body.explain(e),
+            None => e,
+        })?;
         if rule == ContactRule::Tagged {
             fem.check_tagged_contact()?;
         }

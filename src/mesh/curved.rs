@@ -112,6 +112,127 @@ fn o_grid(element: RefElement, n: usize) -> Result<Cells> {
 /// density too small against them.
 pub const MAX_GRADING: f64 = 1e10;
 
+/// A generated disc or ball by [`round_body`]'s parameters (its radius aside: the cells fold
+/// or not whatever the scale), kept beside its mesh to explain a failed check of the mesh.
+///
+/// The Möbius map is conformal, but the cells are not the map's image: their vertices (and
+/// P2/Q2 nodes) are, joined as the element joins them. Where a cell spans a large part of the
+/// map's variation its image folds: at the count n, every grading above a largest one (measured
+/// for every family on n ≤ 8 by steps of 0.05 decade: below it every grading holds, above it
+/// none), which grows with n overall but not monotonically. Hex Q1: n = 1, 2, 3, 4, 5, 8 hold
+/// up to 4.86, 21.3, 34.3, 335, 95.6, 10 900; P2 tetrahedra: n = 2, 8 up to 6.38, 136; the disc
+/// of Q1 cells at n = 1 up to 9.5. So the range [1, 1e10] of `mesh.grading` holds on fine
+/// meshes only, and [`RoundBody::explain`] finds the limits of the count at hand by building
+/// the meshes. The shipped spheres (grading 25: hex Q1 at n = 4, 8, 16, Q2 at 4, 8) hold.
+#[derive(Debug, Clone, Copy)]
+pub struct RoundBody {
+    /// Element family of the cells.
+    pub element: RefElement,
+    /// Cells along each edge of the O-grid's inner cube (`mesh.elements`).
+    pub n: usize,
+    /// Top-over-pole spacing ratio (`mesh.grading`).
+    pub grading: f64,
+}
+
+/// Size of the meshes, in cells times nodes per cell, up to which [`RoundBody::explain`]
+/// builds them freely: the finer counts it tries, and the bisection's full precision (a
+/// second or two on two cores for every family).
+const SEARCH_SIZE: usize = 800_000;
+
+/// `x > 0` rounded down to 3 significant digits (a limit that still holds, printed short).
+fn floor3(x: f64) -> f64 {
+    let e = x.log10().floor() - 2.0;
+    let k = (x / 10f64.powf(e)).floor();
+    format!("{k}e{e}").parse().unwrap_or(x)
+}
+
+impl RoundBody {
+    /// The mesh, of radius `radius` ([`round_body`]).
+    pub fn mesh(&self, radius: f64) -> Result<Mesh> {
+        round_body(self.element, self.n, radius, self.grading)
+    }
+
+    /// Whether the mesh of `n` cells at `grading` fails its check ([`Mesh::check`]).
+    fn folds(&self, n: usize, grading: f64) -> bool {
+        round_body(self.element, n, 1.0, grading)
+            .and_then(|m| m.check())
+            .is_err()
+    }
+
+    /// The size of the mesh at `n`: its cells (`(1 + d) n^d` boxes of the O-grid, each split
+    /// into d! simplices for triangles and tetrahedra) times the nodes per cell.
+    fn size(&self, n: usize) -> usize {
+        let d = self.element.dim;
+        let split = match self.element.shape {
+            crate::element::reference::Shape::Simplex => (1..=d).product(),
+            crate::element::reference::Shape::Tensor => 1,
+        };
+        (1 + d) * n.pow(d as u32) * split * self.element.n_nodes()
+    }
+
+    /// `error`, a failed check of this body's mesh, as a refusal of `mesh.elements` at its
+    /// `mesh.grading` when the generator's own cells fold there, with the largest grading that
+    /// holds at this count (bisection in log scale) and the next count that holds at this
+    /// grading (tried upwards while the meshes stay below [`SEARCH_SIZE`]); any other error
+    /// as it is.
+    pub fn explain(&self, error: Error) -> Error {
+        let Self {
+            element,
+            n,
+            grading,
+        } = *self;
+        if !self.folds(n, grading) {
+            return error;
+        }
+        let what = if element.dim == 2 { "disc" } else { "sphere" };
+        let fold = match &error {
+            Error::Mesh { message, .. } => message.clone(),
+            e => e.to_string(),
+        };
+        let g = crate::error::short(grading);
+        let at_count = if self.folds(n, 1.0) {
+            format!("no mesh.grading holds at mesh.elements = {n}")
+        } else {
+            let steps = if self.size(n) <= SEARCH_SIZE { 14 } else { 6 };
+            let (mut lo, mut hi) = (1.0_f64, grading);
+            for _ in 0..steps {
+                let mid = (lo * hi).sqrt();
+                match self.folds(n, mid) {
+                    true => hi = mid,
+                    false => lo = mid,
+                }
+            }
+            format!(
+                "at mesh.elements = {n} mesh.grading must lie in [1, {}]",
+                crate::error::short(floor3(lo))
+            )
+        };
+        let tried: Vec<usize> = (n + 1..)
+            .take_while(|&m| self.size(m) <= SEARCH_SIZE)
+            .collect();
+        let at_grading = match tried.iter().find(|&&m| !self.folds(m, grading)) {
+            Some(m) => {
+                format!("at mesh.grading = {g} the next count that holds is mesh.elements = {m}")
+            }
+            None if tried.is_empty() => format!("at mesh.grading = {g} try a finer mesh"),
+            None => format!(
+                "at mesh.grading = {g} no mesh.elements from {} to {} holds",
+                n + 1,
+                tried[tried.len() - 1]
+            ),
+        };
+        Error::invalid(
+            "mesh.elements",
+            n,
+            &format!(
+                "the {what} generator's own cells fold at mesh.grading = {g}: {at_count}, and \
+                 {at_grading}; mesh.grading's range [1, {MAX_GRADING:e}] holds on fine meshes \
+                 only. The check: {fold}"
+            ),
+        )
+    }
+}
+
 /// The disc (`element.dim == 2`) or ball (3) of radius `radius` with `n` cells along each edge
 /// of the O-grid's inner cube and grading ratio `grading_ratio ≥ 1` towards the pole.
 pub fn round_body(element: RefElement, n: usize, radius: f64, grading_ratio: f64) -> Result<Mesh> {
@@ -241,5 +362,40 @@ mod tests {
             m.h,
             uniform.h
         );
+    }
+
+    /// A count and grading whose own cells fold (hex Q1, n = 2 at 25: oblique3d's
+    /// `--elements 2`, which said only "cell 28 … is inverted") are refused naming
+    /// mesh.elements, mesh.grading, the largest grading at this count (21.3, the mesh at it
+    /// valid) and the next count at this grading (3); an error of a mesh that holds is
+    /// returned as it is.
+    #[test]
+    fn a_folding_count_and_grading_are_refused_with_the_range_of_each() {
+        let element = RefElement {
+            shape: Shape::Tensor,
+            dim: 3,
+            degree: 1,
+        };
+        let body = RoundBody {
+            element,
+            n: 2,
+            grading: 25.0,
+        };
+        let check = body.mesh(1.0).unwrap().check().unwrap_err();
+        let e = body.explain(check).to_string();
+        for needle in [
+            "`mesh.elements`: 2",
+            "sphere generator's own cells fold at mesh.grading = 25",
+            "at mesh.elements = 2 mesh.grading must lie in [1, 21.3]",
+            "next count that holds is mesh.elements = 3",
+            "cell 28",
+        ] {
+            assert!(e.contains(needle), "{needle}: {e}");
+        }
+        assert!(round_body(element, 2, 1.0, 21.3).unwrap().check().is_ok());
+        assert!(round_body(element, 3, 1.0, 25.0).unwrap().check().is_ok());
+        let holds = RoundBody { n: 3, ..body };
+        let other = Error::Internal("another failure".into());
+        assert!(matches!(holds.explain(other), Error::Internal(_)));
     }
 }
