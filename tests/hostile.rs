@@ -2,7 +2,7 @@
 //! miss t_end, interrupted output. Each test runs the binary and asserts a clear error (exit ≠ 0,
 //! no panic, the field or file named) within a time limit, or the documented outcome.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -767,10 +767,20 @@ fn merge_refuses_records_that_no_sweep_writes() {
         &merge(&[&records]),
         &["not the 2 shards of a sweep", "missing: records-2-of-2.csv"],
     );
-    assert_clear_error(
-        &merge(&[&records, &records]),
-        &["not the 2 shards of a sweep", "given fewer than 2 times"],
-    );
+    // The same file twice, by one path or two (it said shard 2 was "given fewer than 2 times,
+    // as another shard is").
+    let other = shard.join("..").join("s").join("records-1-of-2.csv");
+    for (twice, how) in [
+        (
+            [&records, &records],
+            "given twice: give each records file once",
+        ),
+        ([&records, &other], "given twice (as "),
+    ] {
+        let out = merge(&twice.map(PathBuf::as_path));
+        assert_clear_error(&out, &["records-1-of-2.csv", how]);
+        assert!(!stderr(&out).contains("fewer"), "{}", stderr(&out));
+    }
     let [mine, again] = ["mine.csv", "again.csv"].map(|f| dir.path().join(f));
     std::fs::copy(&records, &mine).unwrap();
     std::fs::copy(&records, &again).unwrap();

@@ -361,6 +361,7 @@ fn finite_body_estimate(case: &dyn Case, size: Size) -> Estimate {
 /// Joins record files (from `sweep --shard`) into a report in `out` (no time histories), each
 /// study's complete and in its enumeration order ([`manifest::in_study_order`]).
 pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
+    distinct_files(files)?;
     complete_shards(files)?;
     let (mut read, mut seen) = (Vec::new(), Seen::default());
     for f in files {
@@ -396,12 +397,41 @@ pub fn merge(files: &[PathBuf], out: &Path) -> Result<Vec<RunRecord>> {
     Ok(records)
 }
 
+/// Refuses a records file given twice, by one path or by two that reach the same file (`./x`
+/// and `x`, a symbolic link; compared as canonical paths): its runs would come twice, which the
+/// shard count or the repeated keys reported only indirectly. A path that cannot be resolved (a
+/// missing file) is compared as given; reading it names its fault.
+fn distinct_files(files: &[PathBuf]) -> Result<()> {
+    let same: Vec<PathBuf> = files
+        .iter()
+        .map(|f| std::fs::canonicalize(f).unwrap_or_else(|_| f.clone()))
+        .collect();
+    for (j, file) in same.iter().enumerate() {
+        if let Some(i) = same[..j].iter().position(|f| f == file) {
+            let how = match files[i] == files[j] {
+                true => String::new(),
+                false => format!(
+                    " (as {} and {}: one file)",
+                    files[i].display(),
+                    files[j].display()
+                ),
+            };
+            return Err(RECORDS_FILE.error(
+                &files[i],
+                format!("given twice{how}: give each records file once"),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Refuses an incomplete set of shards: among the files named `records-<i>-of-<n>.csv` (as
 /// `sweep --shard i/n` writes them, into one directory or one each), every i of 1..=n of one n
 /// must come equally often: once for one sweep, k times for k sweeps sharded alike (their keys
-/// differ; the same shard twice is a repeated key). A name of that form (i and n digits) that
-/// `sweep` does not write (i = 0, i > n, a leading zero, beyond `usize`) is refused, naming
-/// the file. Files of other names are the user's own.
+/// differ; the same shard twice is a repeated key). A shard given more often than another is
+/// named with its paths (one file given twice is [`distinct_files`]'s). A name of that form (i
+/// and n digits) that `sweep` does not write (i = 0, i > n, a leading zero, beyond `usize`) is
+/// refused, naming the file. Files of other names are the user's own.
 fn complete_shards(files: &[PathBuf]) -> Result<()> {
     let shard = |f: &PathBuf| -> Result<Option<(usize, usize)>> {
         let parts = f.file_name().and_then(|n| n.to_str()).and_then(|name| {
@@ -428,7 +458,7 @@ fn complete_shards(files: &[PathBuf]) -> Result<()> {
     };
     let mut shards = Vec::new();
     for f in files {
-        shards.extend(shard(f)?);
+        shards.extend(shard(f)?.map(|(n, k)| (n, k, f)));
     }
     shards.sort_unstable();
     for group in shards.chunk_by(|a, b| a.0 == b.0) {
@@ -446,20 +476,30 @@ fn complete_shards(files: &[PathBuf]) -> Result<()> {
             if missing.next().is_some() {
                 names.push("…".into());
             }
+            let names = names.join(", ");
+            let why = match most {
+                1 => format!(
+                    " (given: {:?}; missing: {names})",
+                    group.iter().map(|s| s.1).collect::<Vec<_>>()
+                ),
+                // A shard from two directories: a copy, or k sweeps' shards with one short.
+                _ => {
+                    let k = (1..=n).find(|&k| count(k) == most).unwrap_or(1);
+                    let paths: Vec<String> = (group.iter().filter(|s| s.1 == k))
+                        .map(|s| s.2.display().to_string())
+                        .collect();
+                    format!(
+                        ": records-{k}-of-{n}.csv is given {most} times ({}), but {names} fewer \
+                         (each shard comes once per sweep sharded alike: drop a copy, or give \
+                         every shard of each sweep)",
+                        paths.join(", ")
+                    )
+                }
+            };
             return Err(Error::invalid(
                 "records",
                 format!("records-*-of-{n}.csv"),
-                &format!(
-                    "not the {n} shards of a sweep, each as often (given: {:?}; {}: {})",
-                    group.iter().map(|s| s.1).collect::<Vec<_>>(),
-                    if most > 1 {
-                        // A file given twice, or k sweeps' shards with one of them short.
-                        format!("given fewer than {most} times, as another shard is")
-                    } else {
-                        "missing".to_string()
-                    },
-                    names.join(", ")
-                ),
+                &format!("not the {n} shards of a sweep, each as often{why}"),
             ));
         }
     }
@@ -568,5 +608,56 @@ mod tests {
                 "{name}: {e}"
             );
         }
+        // A shard from two directories is named with both paths.
+        let e = complete_shards(&set(&[
+            "a/records-1-of-3.csv",
+            "b/records-1-of-3.csv",
+            "a/records-2-of-3.csv",
+            "a/records-3-of-3.csv",
+        ]))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains(
+                "records-1-of-3.csv is given 2 times (a/records-1-of-3.csv, b/records-1-of-3.csv), \
+                 but records-2-of-3.csv, records-3-of-3.csv fewer"
+            ),
+            "{e}"
+        );
+    }
+
+    /// One records file given twice said the other shards were given "fewer than 2 times, as
+    /// another shard is": it is named as given twice, by one path or by two reaching it
+    /// (`sub/../x` and `x`); distinct files pass, and so does a path that does not resolve
+    /// (read later).
+    #[test]
+    fn a_records_file_given_twice_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let [one, two] = ["records-1-of-2.csv", "records-2-of-2.csv"].map(|f| dir.path().join(f));
+        for f in [&one, &two] {
+            std::fs::write(f, "").unwrap();
+        }
+        let e = distinct_files(&[one.clone(), one.clone(), two.clone()])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("{}: given twice: give each", one.display())),
+            "{e}"
+        );
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        let other = dir.path().join("sub/../records-1-of-2.csv");
+        let e = distinct_files(&[other.clone(), two.clone(), one.clone()])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!(
+                "as {} and {}: one file",
+                other.display(),
+                one.display()
+            )),
+            "{e}"
+        );
+        let missing = dir.path().join("records-3-of-3.csv");
+        assert!(distinct_files(&[one, two, missing]).is_ok());
     }
 }
