@@ -2678,6 +2678,7 @@ fn a_slide_on_a_slope_is_refused_for_its_flat_reference() {
     let block = edited(dir.path(), "block2d.toml", &[("gravity = 0.0", tilted)]);
     let out = run(&[&block], &["--t-end", "0.01", "--out", o]);
     assert!(out.status.success(), "{}", stderr(&out));
+}
 
 /// Nitsche on a pair said it "needs σ_N on Γ_C, which this case does not provide (bar1d and
 /// the meshed bodies do)" of two meshed bodies: the reason is that Nitsche between two bodies
