@@ -79,6 +79,11 @@ fn lower_than(x: f64, lowest: f64, h: f64, d: usize) -> String {
              sink through it (tag the lower part of the boundary as the contact group)",
             lowest - x
         )
+    } else if x == lowest {
+        format!(
+            "lies at the level of {level}: it would meet the plane outside Γ_C (tag the faces \
+             through it as contact too)"
+        )
     } else {
         format!(
             "lies {:.3e} above {level}, less than the tolerance {:.3e} ({PENETRATION_TOLERANCE:e} \
@@ -725,6 +730,16 @@ mod tests {
     use crate::element::reference::{RefElement, Shape};
     use crate::mesh::structured::box_mesh;
     use crate::mesh::FACING;
+
+    /// A node off Γ_C is said to lie below Γ_C, at its level, or above it within the tolerance
+    /// (a node exactly at the level was "0.000e0 above … too thin").
+    #[test]
+    fn a_node_off_contact_is_placed_where_it_is() {
+        assert!(lower_than(-1e-3, 0.0, 1.0, 2).starts_with("lies below"));
+        assert!(lower_than(0.0, 0.0, 1.0, 2).starts_with("lies at the level of"));
+        let above = lower_than(1e-7, 0.0, 1.0, 2);
+        assert!(above.starts_with("lies 1.000e-7 above") && above.contains("too thin"));
+    }
 
     /// A uniform interval of 10⁵ elements passes the uniformity check (its coordinates round
     /// by up to ~1e5 eps h at the far end); a moved node does not.

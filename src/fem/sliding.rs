@@ -1,32 +1,36 @@
 //! The small-sliding limit of the node-to-segment interface of two bodies
 //! ([`Bodies::pairings`]). Each slave vertex s is paired with a master face F once, in the
 //! reference configuration, and its row (the normal `n_m`, the shape functions `N_k(ξ_s)` at the
-//! projection) is kept for the whole run. That is right while s stays over F: the gap
-//! `g₀ − B_N U` is then the distance to F, and the force acts on F at the point facing s. A
-//! vertex that slides off F is measured against F's extension and pushes the master at a point
-//! outside F; past the master's edge it is held up in the air (a block sliding off the block
-//! below it kept its force and its height).
+//! projection) is kept for the whole run: its gap is measured against the plane of F through
+//! the master's point that faced s at t = 0, and its force acts there. Linearised as the
+//! elasticity is, that holds while s stays over the master's Γ_C (on a flat master exactly,
+//! across any number of faces; on a curved one to second order in the slip). A vertex that
+//! slides past the master's Γ_C is still held by that plane: a block sliding off the block
+//! below it kept its force and its height, in the air.
 //!
 //! [`SmallSliding::check`] projects each slave vertex in contact (λ_r > 0), displaced, along
 //! `n_m` on its face, displaced. The projection may fall outside the face by [`MAX_EXCESS`] (in
 //! the face's reference coordinates, the allowance of the pairing itself) beyond where it fell
-//! at t = 0 (0 inside the face; up to [`MAX_EXCESS`] for a vertex paired in the dead zone above a
-//! convex master's kink); further, the vertex must lie over a face beside its own (one sharing a
-//! vertex with it, within [`MAX_EXCESS`]), and less than a whole face beyond its own: on a face
-//! beside its own the row's face is extended by less than one face, whose error is second order
-//! in the slip (none on a flat master). Else the vertex has slid off its face, or off the
-//! master, and the run stops, naming the vertex, the step and how far it slid. Rows out of
-//! contact are not checked: a vertex off its face matters once it touches.
+//! at t = 0; further, the vertex must lie over some face of the master's Γ_C (within
+//! [`MAX_EXCESS`] along that face's normal, both displaced), searched from the last one found
+//! outwards through faces sharing a vertex. A vertex over no face stops the run, naming the
+//! vertex, the step and how far it slid. Rows out of contact are not checked: a vertex off the
+//! master matters once it touches.
 
 use super::bodies::{project, Bodies, MAX_EXCESS};
-use crate::error::Result;
+use crate::error::{short, Result};
+use std::collections::VecDeque;
 
-/// The rows of an interface, as the check needs them ([`SmallSliding::new`]).
+/// The rows of an interface and the master's Γ_C faces, as the check needs them
+/// ([`SmallSliding::new`]).
 #[derive(Debug, Clone)]
 pub struct SmallSliding {
     rows: Vec<Row>,
+    faces: Vec<Face>,
     /// The slave's and the master's numbers (1-based, as messages name the bodies).
     bodies: (usize, usize),
+    /// Space dimension (for messages).
+    dim: usize,
 }
 
 /// A point of a body: its reference position and its global dofs (None where fixed).
@@ -37,11 +41,6 @@ struct Point {
 }
 
 impl Point {
-    /// Its position displaced by `u`.
-    fn at(&self, u: &[f64]) -> [f64; 3] {
-        std::array::from_fn(|k| self.x[k] + self.displacement(u)[k])
-    }
-
     /// Its displacement in `u` (none in an empty `u`: the reference configuration).
     fn displacement(&self, u: &[f64]) -> [f64; 3] {
         std::array::from_fn(|k| {
@@ -53,20 +52,45 @@ impl Point {
                 .map_or(0.0, |&v| v)
         })
     }
+
+    /// Its position displaced by `u`.
+    fn at(&self, u: &[f64]) -> [f64; 3] {
+        let d = self.displacement(u);
+        std::array::from_fn(|k| self.x[k] + d[k])
+    }
 }
 
-/// One row: the slave vertex (and its name), the master face's vertices with their shape
-/// functions at the reference projection, the row's normal, how far outside the face the
-/// projection may fall (`MAX_EXCESS` beyond where it fell at t = 0), and the master faces beside
-/// it (their vertices and normals).
+/// A face of the master's Γ_C: its vertices, its unit normal, the faces sharing a vertex with
+/// it.
+#[derive(Debug, Clone)]
+struct Face {
+    points: Vec<Point>,
+    normal: [f64; 3],
+    beside: Vec<usize>,
+}
+
+impl Face {
+    /// How far outside the face, displaced by `u` (reference coordinates of the face), `p`
+    /// projects along `normal`; None when no point of the face faces it.
+    fn excess(&self, u: &[f64], normal: [f64; 3], p: [f64; 3]) -> Result<Option<f64>> {
+        let x: Vec<[f64; 3]> = self.points.iter().map(|q| q.at(u)).collect();
+        Ok(project(&x, normal, p)?.map(|(e, _)| e))
+    }
+}
+
+/// One row: the slave vertex (and its name), its face (an index of the master's faces) with
+/// the shape functions at the reference projection, the row's normal, how far outside its face
+/// the projection may fall (`MAX_EXCESS` beyond where it fell at t = 0), and the face it was
+/// last found over.
 #[derive(Debug, Clone)]
 struct Row {
     name: String,
     slave: Point,
-    face: Vec<(Point, f64)>,
+    face: usize,
+    shape: Vec<f64>,
     normal: [f64; 3],
     limit: f64,
-    beside: Vec<(Vec<Point>, [f64; 3])>,
+    last: usize,
 }
 
 impl SmallSliding {
@@ -90,131 +114,145 @@ impl SmallSliding {
                 through[k].push(f);
             }
         }
-        let beside = |vertices: &[usize]| {
-            let mut faces: Vec<usize> = vertices
-                .iter()
-                .flat_map(|&k| &through[k])
-                .copied()
-                .collect();
-            faces.sort_unstable();
-            faces.dedup();
-            let mut own = vertices.to_vec();
-            own.sort_unstable();
-            faces
-                .into_iter()
-                .map(|f| &m.contact_faces[f])
-                .filter(|f| {
-                    let mut v = f.vertices.clone();
-                    v.sort_unstable();
-                    v != own
-                })
-                .map(|f| {
-                    (
-                        f.vertices.iter().map(|&k| point(master, k)).collect(),
-                        f.normal,
-                    )
-                })
-                .collect()
-        };
-        let rows = bodies
-            .pairings(slave, master)?
-            .into_iter()
-            .map(|p| {
-                let i = s.contact_vertices[p.slave].0;
-                let vertices: Vec<usize> = p.master.iter().map(|&(k, _)| k).collect();
-                let mut row = Row {
-                    name: s.mesh.node_name(i),
-                    slave: point(slave, i),
-                    face: p
-                        .master
-                        .iter()
-                        .map(|&(k, n)| (point(master, k), n))
-                        .collect(),
-                    normal: p.normal,
-                    limit: MAX_EXCESS,
-                    beside: beside(&vertices),
-                };
-                row.limit += row.excess(&[])?.unwrap_or(0.0);
-                Ok(row)
+        let faces: Vec<Face> = m
+            .contact_faces
+            .iter()
+            .enumerate()
+            .map(|(f, face)| {
+                let mut beside: Vec<usize> = face
+                    .vertices
+                    .iter()
+                    .flat_map(|&k| &through[k])
+                    .copied()
+                    .collect();
+                beside.sort_unstable();
+                beside.dedup();
+                beside.retain(|&g| g != f);
+                Face {
+                    points: face.vertices.iter().map(|&k| point(master, k)).collect(),
+                    normal: face.normal,
+                    beside,
+                }
             })
-            .collect::<Result<_>>()?;
+            .collect();
+        // A row's face: the one whose vertices are its master vertices.
+        let sorted = |mut v: Vec<usize>| {
+            v.sort_unstable();
+            v
+        };
+        let face_of = |vertices: Vec<usize>| {
+            let key = sorted(vertices);
+            m.contact_faces
+                .iter()
+                .position(|f| sorted(f.vertices.clone()) == key)
+        };
+        let mut rows = Vec::new();
+        for p in bodies.pairings(slave, master)? {
+            let i = s.contact_vertices[p.slave].0;
+            let Some(face) = face_of(p.master.iter().map(|&(k, _)| k).collect()) else {
+                continue;
+            };
+            let slave = point(slave, i);
+            let excess = faces[face].excess(&[], p.normal, slave.x)?;
+            rows.push(Row {
+                name: s.mesh.node_name(i),
+                slave,
+                face,
+                shape: p.master.iter().map(|&(_, n)| n).collect(),
+                normal: p.normal,
+                limit: MAX_EXCESS + excess.unwrap_or(0.0),
+                last: face,
+            });
+        }
         Ok(Self {
             rows,
+            faces,
             bodies: (slave + 1, master + 1),
+            dim: d,
         })
     }
 
     /// Why the state `u` with the contact forces `lambda` (of the interface's rows first) is
-    /// past small sliding, if it is: the first row in contact whose slave vertex is off its
-    /// face and not over a face beside it (the module's rule).
-    pub fn check(&self, u: &[f64], lambda: &[f64]) -> Result<Option<String>> {
-        for (row, _) in self.rows.iter().zip(lambda).filter(|(_, &l)| l > 0.0) {
-            let excess = row.excess(u)?;
-            if excess.is_some_and(|e| e <= row.limit) {
+    /// past small sliding, if it is: the first row in contact whose slave vertex lies over no
+    /// face of the master's Γ_C (the module's rule). Remembers the face each vertex was found
+    /// over, where the next search starts.
+    pub fn check(&mut self, u: &[f64], lambda: &[f64]) -> Result<Option<String>> {
+        for (row, _) in self.rows.iter_mut().zip(lambda).filter(|(_, &l)| l > 0.0) {
+            let p = row.slave.at(u);
+            let own = self.faces[row.face].excess(u, row.normal, p)?;
+            if own.is_some_and(|e| e <= row.limit) {
                 continue;
             }
-            let next = excess.is_some_and(|e| e <= row.limit - MAX_EXCESS + 1.0);
-            if next && row.over_a_face_beside(u)? {
+            if let Some(f) = over(&self.faces, row.last, u, p)? {
+                row.last = f;
                 continue;
             }
-            let outside = excess.map_or("no point of it faces the vertex".to_string(), |e| {
-                let over = if next {
-                    "and over no face beside it"
-                } else {
-                    "beyond the faces beside it"
-                };
-                format!("its projection falls {e:.3} of the face outside it, {over}")
-            });
             let (slave, master) = self.bodies;
+            let at: Vec<String> = row.slave.x[..self.dim].iter().map(|&x| short(x)).collect();
             return Ok(Some(format!(
-                "body {slave}'s Γ_C {} (at {:?}) has slid {:.4e} along body {master}'s contact \
-                 face it was paired with at t = 0 and is off that face ({outside}): the interface pairs each vertex with a face once, in the \
-                 reference configuration (small sliding), so its gap and its force would now be \
-                 those of the face's extension; the run stops rather than hold the vertex on a \
-                 face it has left",
+                "body {slave}'s Γ_C {} (at [{}]) has slid {:.3e} relative to body {master} and lies \
+                 over no face of body {master}'s Γ_C (its projection falls outside each by more \
+                 than {MAX_EXCESS} of the face): the interface pairs each vertex with a face \
+                 once, in the reference configuration (small sliding), and would hold it on \
+                 the plane of a face it has left; the run stops there",
                 row.name,
-                row.slave.x,
-                row.slip(u)
+                at.join(", "),
+                row.slip(&self.faces, u)
             )));
         }
         Ok(None)
     }
 }
 
-impl Row {
-    /// True when the slave vertex, in the state `u`, projects on a master face beside its own
-    /// within [`MAX_EXCESS`].
-    fn over_a_face_beside(&self, u: &[f64]) -> Result<bool> {
-        let p = self.slave.at(u);
-        for (face, normal) in &self.beside {
-            let x: Vec<[f64; 3]> = face.iter().map(|q| q.at(u)).collect();
-            if project(&x, *normal, p)?.is_some_and(|(e, _)| e <= MAX_EXCESS) {
-                return Ok(true);
+/// The first face of `faces` over which `p` lies in the state `u` (projected along the face's
+/// normal within [`MAX_EXCESS`]), searched breadth-first from `start` through the faces beside
+/// each, then among the faces that search did not reach (another part of Γ_C).
+fn over(faces: &[Face], start: usize, u: &[f64], p: [f64; 3]) -> Result<Option<usize>> {
+    let mut seen = vec![false; faces.len()];
+    let mut queue = VecDeque::from([start]);
+    seen[start] = true;
+    let mut next_unseen = 0;
+    loop {
+        let f = match queue.pop_front() {
+            Some(f) => f,
+            None => match (next_unseen..faces.len()).find(|&g| !seen[g]) {
+                Some(g) => {
+                    next_unseen = g + 1;
+                    seen[g] = true;
+                    g
+                }
+                None => return Ok(None),
+            },
+        };
+        let face = &faces[f];
+        if face
+            .excess(u, face.normal, p)?
+            .is_some_and(|e| e <= MAX_EXCESS)
+        {
+            return Ok(Some(f));
+        }
+        for &g in &face.beside {
+            if !seen[g] {
+                seen[g] = true;
+                queue.push_back(g);
             }
         }
-        Ok(false)
     }
+}
 
-    /// How far outside its face (reference coordinates of the face) the slave vertex projects
-    /// in the state `u` (`&[]`: the reference configuration); None when no point of the face
-    /// faces it.
-    fn excess(&self, u: &[f64]) -> Result<Option<f64>> {
-        let face: Vec<[f64; 3]> = self.face.iter().map(|(p, _)| p.at(u)).collect();
-        Ok(project(&face, self.normal, self.slave.at(u))?.map(|(e, _)| e))
-    }
-
-    /// The length of the slave vertex's displacement relative to the master's point facing it
-    /// at t = 0 (`u_s − Σ_k N_k u_k`), across the normal.
-    fn slip(&self, u: &[f64]) -> f64 {
+impl Row {
+    /// The length of the tangential part (orthogonal to the row's normal) of the slave
+    /// vertex's displacement relative to the master's point that faced it at t = 0
+    /// (`u_s − Σ_k N_k u_k`).
+    fn slip(&self, faces: &[Face], u: &[f64]) -> f64 {
         let us = self.slave.displacement(u);
-        let rel: [f64; 3] = std::array::from_fn(|k| {
-            us[k]
-                - self
-                    .face
-                    .iter()
-                    .map(|(p, n)| n * p.displacement(u)[k])
-                    .sum::<f64>()
-        });
+        let mut rel = us;
+        for (p, n) in faces[self.face].points.iter().zip(&self.shape) {
+            let du = p.displacement(u);
+            for k in 0..3 {
+                rel[k] -= n * du[k];
+            }
+        }
         let along = (0..3).map(|k| rel[k] * self.normal[k]).sum::<f64>();
         (0..3)
             .map(|k| (rel[k] - along * self.normal[k]).powi(2))

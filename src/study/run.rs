@@ -179,7 +179,7 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
         _ => Vec::new(),
     };
     // Two bodies: their interface's small-sliding limit, checked at every sample.
-    let sliding = bodies
+    let mut sliding = bodies
         .map(|b| crate::fem::sliding::SmallSliding::new(b, 0, 1))
         .transpose()?;
     let mut parts = match bodies {
@@ -261,7 +261,7 @@ fn simulate(case: &dyn Case, progress: bool, fields: Option<&FieldOutput>) -> Re
                     if let Some((what, value)) = row.non_finite() {
                         return Err(diverged(index, s.t, what, value));
                     }
-                    if let Some(c) = &sliding {
+                    if let Some(c) = sliding.as_mut() {
                         if let Some(reason) = c.check(s.u, s.lambda)? {
                             let (step, time) = (index, s.t);
                             return Err(Error::SmallSliding { step, time, reason });

@@ -69,21 +69,23 @@ pub const AUTO_DIRECT_WEIGHT_2D: f64 = 8.0;
 /// factor otherwise, 1D included. Measured (README, Speed): block2d Q1 224² 19 against 42 ms
 /// per step, block3d Q1 32³ 41 ms against 0.56 s (and 65 s of prepare).
 pub fn cg_pays(problem: &Problem, k: &SpMat, coefs: (f64, f64)) -> bool {
-    problem.inertia.sparse().is_some()
-        && problem.n() >= AUTO_CG_DOFS
-        && !linalg::is_narrow_band(k)
-        && own_dofs(problem).is_ok()
-        && !stiff_2d(problem, k, coefs)
+    own_dofs(problem).is_ok() && cg_pays_on_mesh(problem, k, coefs)
 }
 
 /// The rule of [`LinearSolver::Auto`] for a compliant law (Nitsche's): as [`cg_pays`], with a
 /// symmetric law (θ = 1) in place of nodal contact (measured in [`super::compliant`]: 2.7 times
 /// less CPU than the direct step on the default hertz3d sphere).
 fn compliant_cg_pays(problem: &Problem, k: &SpMat, coefs: (f64, f64)) -> bool {
+    symmetric_law(problem).is_ok() && cg_pays_on_mesh(problem, k, coefs)
+}
+
+/// What both rules ask of the problem whatever its law: a sparse mass, n ≥ [`AUTO_CG_DOFS`], a
+/// stiffness that is not a narrow band, and a 2D step matrix that the stiffness does not
+/// dominate.
+fn cg_pays_on_mesh(problem: &Problem, k: &SpMat, coefs: (f64, f64)) -> bool {
     problem.inertia.sparse().is_some()
         && problem.n() >= AUTO_CG_DOFS
         && !linalg::is_narrow_band(k)
-        && symmetric_law(problem).is_ok()
         && !stiff_2d(problem, k, coefs)
 }
 
