@@ -236,7 +236,7 @@ fn gmsh_bodies(
             (BODY_GROUPS[1], CONTACT_GROUPS[1]),
         ],
     )?;
-    let extents = [0, 1].map(|b| extent(&meshes[b], dim - 1));
+    let extents = [0, 1].map(|b| meshes[b].extent(dim - 1));
     check_placement(file, dim, extents)?;
     let shape2 = m
         .geometry
@@ -293,7 +293,7 @@ const ALIGNMENT_TOLERANCE: f64 = 1e-2;
 /// lands on the box's face: not checked.)
 fn check_alignment(file: &std::path::Path, dim: usize, meshes: &[Mesh]) -> Result<()> {
     for k in 0..dim - 1 {
-        let [(lo1, hi1), (lo2, hi2)] = [0, 1].map(|b| extent(&meshes[b], k));
+        let [(lo1, hi1), (lo2, hi2)] = [0, 1].map(|b| meshes[b].extent(k));
         let offset = 0.5 * ((lo1 + hi1) - (lo2 + hi2));
         let width = (hi1 - lo1).min(hi2 - lo2);
         if offset.abs() > ALIGNMENT_TOLERANCE * width {
@@ -575,16 +575,6 @@ impl TwoBodies {
     }
 }
 
-/// The extent `(lowest, highest)` of a mesh's nodes along x_{k+1}.
-fn extent(mesh: &Mesh, k: usize) -> (f64, f64) {
-    mesh.nodes
-        .iter()
-        .map(|x| x[k])
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), z| {
-            (lo.min(z), hi.max(z))
-        })
-}
-
 /// The pair's impact: the relative approach of the centres of mass `δ = −Σ w U − g₀` (body
 /// 1's weights, body 2's negated: it approaches along +e_d; g₀ the gap between body 1's lowest
 /// point and body 2's highest, closed at the relative speed before the first touch), the
@@ -603,7 +593,7 @@ fn pair_impact(parts: &[Body; 2], bodies: &Bodies, hertz: Hertz) -> Result<Impac
         .map(|p| slave.mesh.nodes[slave.contact_vertices[p.slave].0])
         .collect();
     let d = bodies.dim();
-    let gap = extent(&bodies.parts[0].mesh, d - 1).0 - extent(&bodies.parts[1].mesh, d - 1).1;
+    let gap = bodies.parts[0].mesh.extent(d - 1).0 - bodies.parts[1].mesh.extent(d - 1).1;
     Ok(Impact {
         hertz,
         centre,

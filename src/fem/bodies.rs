@@ -413,7 +413,12 @@ impl Bodies {
 
     /// The global dof of node i, component c of body b (its Γ_C vertices are free).
     fn global(&self, b: usize, i: usize, c: usize) -> usize {
-        self.offsets[b] + self.parts[b].dofs.get(i, c).unwrap_or(usize::MAX)
+        self.dof(b, i, c).unwrap_or(usize::MAX)
+    }
+
+    /// The global dof of component `c` of node `i` of body `b`, None where it is fixed.
+    pub fn dof(&self, b: usize, i: usize, c: usize) -> Option<usize> {
+        self.parts[b].dofs.get(i, c).map(|j| self.offsets[b] + j)
     }
 
     /// The contact rows of the interface (slave's Γ_C vertices on the master's faces), with the

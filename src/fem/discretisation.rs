@@ -64,10 +64,10 @@ pub struct Initial {
 
 /// Why a node off Γ_C at height `x` (along `e_d`) is refused by
 /// [`Discretisation::check_tagged_contact`] against Γ_C's lowest vertex at `lowest`: it lies
-/// below it (the body would sink through the plane there), or above it by less than the
-/// tolerance `PENETRATION_TOLERANCE · h` within which a node is taken to be at Γ_C's level (as
-/// for an initial penetration): the top of a plate thinner than the tolerance, which the check
-/// cannot tell from its bottom.
+/// below it (the body would sink through the plane there), at its level, or above it by less
+/// than the tolerance `PENETRATION_TOLERANCE · h` within which a node is taken to be at Γ_C's
+/// level (as for an initial penetration): the top of a plate thinner than the tolerance, which
+/// the check cannot tell from its bottom.
 fn lower_than(x: f64, lowest: f64, h: f64, d: usize) -> String {
     let level = format!(
         "Γ_C's lowest vertex (x_{d} = {})",

@@ -97,14 +97,9 @@ impl SmallSliding {
     /// The check of the rows of [`Bodies::interface`]`(slave, master)`, in their order.
     pub fn new(bodies: &Bodies, slave: usize, master: usize) -> Result<Self> {
         let d = bodies.dim();
-        let point = |b: usize, i: usize| {
-            let part = &bodies.parts[b];
-            Point {
-                x: part.mesh.nodes[i],
-                dofs: (0..d)
-                    .map(|c| part.dofs.get(i, c).map(|j| bodies.offset(b) + j))
-                    .collect(),
-            }
+        let point = |b: usize, i: usize| Point {
+            x: bodies.parts[b].mesh.nodes[i],
+            dofs: (0..d).map(|c| bodies.dof(b, i, c)).collect(),
         };
         let (s, m) = (&bodies.parts[slave], &bodies.parts[master]);
         // The master's Γ_C faces through each of its nodes.

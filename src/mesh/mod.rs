@@ -175,6 +175,16 @@ impl Mesh {
             .map_or(i as u64, |&n| n)
     }
 
+    /// The extent `(lowest, highest)` of the nodes along x_{k+1} (`(∞, −∞)` without a node).
+    pub fn extent(&self, k: usize) -> (f64, f64) {
+        self.nodes
+            .iter()
+            .map(|x| x[k])
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), z| {
+                (lo.min(z), hi.max(z))
+            })
+    }
+
     /// `node 9` for the node of index `i`, by its tag in the mesh file when there is one.
     pub fn node_name(&self, i: usize) -> String {
         format!("node {}", self.node_tag(i))

@@ -414,18 +414,19 @@ fn diverged(step: usize, time: f64, what: &str, value: f64) -> Error {
 
 /// The diagonal of the box around the nodes of `parts` (0 without a node).
 fn diagonal(parts: &[&crate::fem::discretisation::Discretisation]) -> f64 {
-    let mut nodes = parts.iter().flat_map(|p| &p.mesh.nodes).peekable();
-    if nodes.peek().is_none() {
+    if parts.iter().all(|p| p.mesh.nodes.is_empty()) {
         return 0.0;
     }
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for x in nodes {
-        for k in 0..3 {
-            lo[k] = lo[k].min(x[k]);
-            hi[k] = hi[k].max(x[k]);
-        }
-    }
-    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+    let side = |k: usize| {
+        let (lo, hi) = parts
+            .iter()
+            .map(|p| p.mesh.extent(k))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
+                (lo.min(a), hi.max(b))
+            });
+        hi - lo
+    };
+    (0..3).map(|k| side(k).powi(2)).sum::<f64>().sqrt()
 }
 
 /// Snapshots in flight between the time loop and the sampling thread.
